@@ -1,0 +1,104 @@
+#include <action_flow/grid_descriptor.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace action_flow
+{
+std::string toString(FlowAggregation a)
+{
+  return a == FlowAggregation::Sum ? "sumflow" : "meanflow";
+}
+
+FlowAggregation aggregationFromString(const std::string& name)
+{
+  if (name == "sumflow")
+    return FlowAggregation::Sum;
+  if (name == "meanflow")
+    return FlowAggregation::Mean;
+  throw std::invalid_argument("unknown descriptor type '" + name + "' (expected sumflow or meanflow)");
+}
+
+PersonFrame PersonFrame::fromGround(const Eigen::Vector3f& centroid, const Eigen::Vector4f& ground, float height,
+                                    const Eigen::Vector3f& view)
+{
+  const Eigen::Vector3f n = ground.head<3>();
+  const float norm = n.norm();
+  if (!(norm > 1e-6f) || !std::isfinite(ground[3]))
+    throw std::invalid_argument("PersonFrame: degenerate ground plane");
+  if (!(height > 0.0f) || !centroid.allFinite())
+    throw std::invalid_argument("PersonFrame: height must be positive and the centroid finite");
+  const Eigen::Vector3f up = n / norm;
+  const float above = up.dot(centroid) + ground[3] / norm;  // signed height of the centroid
+  PersonFrame f;
+  f.origin = centroid - above * up;
+  Eigen::Vector3f depth = view - view.dot(up) * up;
+  if (!(depth.norm() > 1e-6f))
+    throw std::invalid_argument("PersonFrame: viewing direction is parallel to the ground normal");
+  depth.normalize();
+  // x to the right in the camera image, y up, z toward the camera: a right-handed frame.
+  const Eigen::Vector3f across = depth.cross(up);
+  f.axes.col(0) = across;
+  f.axes.col(1) = up;
+  f.axes.col(2) = -depth;
+  f.height = height;
+  return f;
+}
+
+GridDescriptor::GridDescriptor(const GridParams& params) : params_(params)
+{
+  if (params_.parts_x < 1 || params_.parts_y < 1 || params_.parts_z < 1)
+    throw std::invalid_argument("GridDescriptor: parts per axis must be at least 1");
+  if (!(params_.width > 0) || !(params_.height > 0) || !(params_.depth > 0) || !(params_.reference_height > 0))
+    throw std::invalid_argument("GridDescriptor: grid sizes must be positive");
+}
+
+int GridDescriptor::cellOf(const Eigen::Vector3f& local, float person_height) const
+{
+  const float scale = person_height / params_.reference_height;
+  // Normalised to [0,1) along each axis: x and z centred on the person, y from the ground up.
+  const float u = local.x() / (params_.width * scale) + 0.5f;
+  const float v = local.y() / (params_.height * scale);
+  const float w = local.z() / (params_.depth * scale) + 0.5f;
+  if (!(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f && w >= 0.0f && w < 1.0f))
+    return -1;
+  const int ix = std::min(static_cast<int>(u * params_.parts_x), params_.parts_x - 1);
+  const int iy = std::min(static_cast<int>(v * params_.parts_y), params_.parts_y - 1);
+  const int iz = std::min(static_cast<int>(w * params_.parts_z), params_.parts_z - 1);
+  return ix + params_.parts_x * (iy + params_.parts_y * iz);
+}
+
+Eigen::VectorXf GridDescriptor::compute(const FlowVectors& flow, const PersonFrame& person) const
+{
+  Eigen::VectorXf d = Eigen::VectorXf::Zero(size());
+  if (!(person.height > 0.0f))
+    return d;
+  std::vector<int> count(params_.cells(), 0);
+  for (const auto& f : flow)
+  {
+    if (!f.position.allFinite() || !f.velocity.allFinite())
+      continue;
+    const int c = cellOf(person.toLocal(f.position), person.height);
+    if (c < 0)
+      continue;
+    d.segment<3>(3 * c) += person.axes.transpose() * f.velocity;
+    ++count[c];
+  }
+  if (params_.aggregation == FlowAggregation::Mean)
+  {
+    for (int c = 0; c < params_.cells(); ++c)
+      if (count[c] > 0)
+        d.segment<3>(3 * c) /= static_cast<float>(count[c]);
+  }
+  const float norm = d.norm();
+  if (norm > 0.0f && std::isfinite(norm))
+    d /= norm;
+  else
+    d.setZero();
+  return d;
+}
+
+}  // namespace action_flow

@@ -1,0 +1,201 @@
+// Nearest-neighbour classification and the model file.
+#include <action_flow/action_model.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <random>
+
+using namespace action_flow;
+
+namespace
+{
+struct TrainingSet
+{
+  Eigen::MatrixXf descriptors;
+  std::vector<std::string> labels, persons;
+};
+
+TrainingSet randomSet(int rows, int dims, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> n(0.0f, 1.0f);
+  TrainingSet t;
+  t.descriptors.resize(rows, dims);
+  for (int i = 0; i < t.descriptors.size(); ++i)
+    t.descriptors(i) = n(rng);
+  const char* actions[] = { "wave", "kick", "punch", "sit_down", "walk" };
+  for (int r = 0; r < rows; ++r)
+  {
+    t.labels.push_back(actions[r % 5]);
+    t.persons.push_back("person" + std::to_string(r / 5));
+  }
+  return t;
+}
+
+std::string tempPath(const std::string& name)
+{
+  return ::testing::TempDir() + "action_flow_" + name;
+}
+
+std::string readAll(const std::string& path)
+{
+  std::ifstream f(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+void writeAll(const std::string& path, const std::string& bytes)
+{
+  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), bytes.size());
+}
+
+ActionModel smallModel()
+{
+  const TrainingSet t = randomSet(20, 192 * 3, 5);
+  ActionModel m;
+  m.params.frames = 3;
+  m.params.flow.k = 40;
+  m.params.use_pca = true;
+  m.pca = Pca::fit(t.descriptors.leftCols(192), 0.9);
+  m.descriptors = Eigen::MatrixXf::Random(20, m.pca.outputSize() * 3);
+  m.labels = t.labels;
+  m.persons = t.persons;
+  return m;
+}
+
+// Expects loading @p path to fail with a message naming the file and containing @p what.
+void expectRejected(const std::string& path, const std::string& what)
+{
+  try
+  {
+    ActionModel::load(path);
+    ADD_FAILURE() << "loaded a bad model file: " << what;
+  }
+  catch (const ModelError& e)
+  {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  }
+}
+}  // namespace
+
+TEST(ActionClassifier, ReturnsPlantedNearestNeighbour)
+{
+  const TrainingSet t = randomSet(100, 50, 1);
+  const ActionClassifier nn(t.descriptors, t.labels);
+  Eigen::VectorXf query = t.descriptors.row(37).transpose();
+  query[3] += 0.05f;
+  const Classification c = nn.classify(query);
+  EXPECT_EQ(c.label, t.labels[37]);
+  EXPECT_EQ(c.neighbour, 37u);
+  EXPECT_NEAR(c.distance, 0.05f, 1e-3f);
+  EXPECT_GT(c.margin, 1.0f) << "random 50-d points are ~10 apart; the planted one is 0.05 away";
+  EXPECT_EQ(nn.classes().size(), 5u);
+}
+
+TEST(ActionClassifier, MajorityVoteWithK3)
+{
+  Eigen::MatrixXf d(4, 1);
+  d << 0.0f, 0.2f, 0.25f, 0.3f;
+  const std::vector<std::string> labels = { "a", "b", "b", "b" };
+  Eigen::VectorXf q(1);
+  q << 0.05f;
+  EXPECT_EQ(ActionClassifier(d, labels, 1).classify(q).label, "a");
+  const Classification three = ActionClassifier(d, labels, 3).classify(q);
+  EXPECT_EQ(three.label, "b");
+  EXPECT_NEAR(three.distance, 0.15f, 1e-6f);
+  EXPECT_NEAR(three.margin, -0.1f, 1e-6f);
+}
+
+TEST(ActionClassifier, RejectsBadInput)
+{
+  const TrainingSet t = randomSet(10, 4, 2);
+  EXPECT_THROW(ActionClassifier(Eigen::MatrixXf(0, 4), {}), std::invalid_argument);
+  EXPECT_THROW(ActionClassifier(t.descriptors, { "a" }), std::invalid_argument);
+  const ActionClassifier nn(t.descriptors, t.labels);
+  EXPECT_THROW(nn.classify(Eigen::VectorXf::Zero(5)), std::invalid_argument);
+  EXPECT_THROW(nn.classify(Eigen::VectorXf::Constant(4, NAN)), std::invalid_argument);
+}
+
+TEST(ActionModel, RoundTripsExactly)
+{
+  const ActionModel m = smallModel();
+  const std::string path = tempPath("roundtrip.model");
+  m.save(path);
+  const ActionModel l = ActionModel::load(path);
+  EXPECT_EQ(describeDifferences(l.params, m.params), "");
+  EXPECT_EQ(l.params.use_pca, true);
+  EXPECT_EQ(l.params.pca_variance, m.params.pca_variance);
+  EXPECT_EQ(l.params.neighbours, m.params.neighbours);
+  EXPECT_EQ(l.descriptors, m.descriptors);
+  EXPECT_EQ(l.pca.basis(), m.pca.basis());
+  EXPECT_EQ(l.pca.mean(), m.pca.mean());
+  EXPECT_EQ(l.pca.variances(), m.pca.variances());
+  EXPECT_EQ(l.labels, m.labels);
+  EXPECT_EQ(l.persons, m.persons);
+  EXPECT_EQ(readAll(path + ".tmp"), "") << "no temporary file left behind";
+  std::remove(path.c_str());
+}
+
+TEST(ActionModel, RejectsEachKindOfBadFile)
+{
+  const std::string path = tempPath("bad.model");
+  smallModel().save(path);
+  const std::string good = readAll(path);
+
+  expectRejected(tempPath("does_not_exist.model"), "cannot open");
+
+  writeAll(path, good.substr(0, good.size() / 2));
+  expectRejected(path, "truncated");
+
+  std::string corrupt = good;
+  corrupt[good.size() - 100] ^= 0x5a;
+  writeAll(path, corrupt);
+  expectRejected(path, "checksum");
+
+  std::string old = good;
+  old[8] = 0;  // version field follows the 8-byte magic
+  old[9] = 0;
+  writeAll(path, old);
+  expectRejected(path, "format version 0");
+
+  writeAll(path, "wave,kick\n1,2,3\n");
+  expectRejected(path, "not an action_flow model");
+
+  writeAll(path, "");
+  expectRejected(path, "truncated");
+  std::remove(path.c_str());
+}
+
+TEST(ActionModel, RejectsParametersThatDifferFromTheRuntime)
+{
+  const ActionModel m = smallModel();
+  RecognitionParams runtime = m.params;
+  EXPECT_NO_THROW(m.checkCompatible(runtime, "m.model"));
+  runtime.neighbours = 3;  // the vote does not shape descriptors
+  EXPECT_NO_THROW(m.checkCompatible(runtime, "m.model"));
+  runtime.flow.k = 50;
+  runtime.grid.aggregation = FlowAggregation::Mean;
+  try
+  {
+    m.checkCompatible(runtime, "m.model");
+    ADD_FAILURE() << "accepted a model made with other parameters";
+  }
+  catch (const ModelError& e)
+  {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("'m.model'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("flow.k: model 40, runtime 50"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("descriptor: model sumflow, runtime meanflow"), std::string::npos) << msg;
+  }
+}
+
+TEST(ActionModel, RefusesToSaveInconsistentModel)
+{
+  ActionModel m = smallModel();
+  m.labels.pop_back();
+  EXPECT_THROW(m.save(tempPath("inconsistent.model")), ModelError);
+}
