@@ -1,0 +1,104 @@
+/**
+ * @file people_tracker.h
+ * @brief People detection and tracking on colored point clouds, ROS-free (the pipeline's second
+ *        stage): ground plane found by itself, people detected standing on it, tracked with
+ *        stable ids, each person's cloud cut out at the flow's voxel size.
+ */
+#pragma once
+
+#include <action_flow/grid_descriptor.h>
+#include <action_flow/types.h>
+
+#include <boost/shared_ptr.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+/** @brief Parameters of detection and tracking. Lengths in metres, times in seconds. */
+struct TrackerParams
+{
+  /** Voxel size for detection (Munaro et al. 2012 found 0.06 m ideal for tracking). */
+  float detection_voxel_size = 0.06f;
+  /** Voxel size of the published person clouds (the flow's 0.02 m). */
+  float person_voxel_size = 0.02f;
+  /** Points farther than this from the camera are ignored (the Kinect's useful range). */
+  float max_range = 6.0f;
+  /** Person height limits (top of head above the ground). */
+  float min_height = 1.1f, max_height = 2.3f;
+  /** Person width limits (horizontal extent of a cluster). */
+  float min_width = 0.1f, max_width = 1.2f;
+  /** Points closer than this to the ground plane are ground. */
+  float ground_tolerance = 0.05f;
+  /** Euclidean clustering tolerance (at the detection voxel size). */
+  float cluster_tolerance = 0.12f;
+  /** Minimum points of a person cluster at the detection voxel size. */
+  int min_points = 30;
+  /** Use this ground plane (a,b,c,d, normal up, in the input frame) instead of estimating it. */
+  bool fixed_ground = false;
+  Eigen::Vector4f ground = Eigen::Vector4f(0, -1, 0, 1.1f);
+  /** Optional PCL HOG+SVM person classifier file; empty = no HOG confirmation. */
+  std::string hog_classifier_file;
+  /** Association gate: a detection farther than this from a track's prediction starts a new track. */
+  float gate = 0.6f;
+  /** A track not seen for this long is lost. */
+  double lost_after = 0.5;
+  /** A new track is reported only after this many detections. */
+  int confirm_after = 2;
+};
+
+/** @brief One tracked person in one frame. */
+struct TrackedPerson
+{
+  std::uint32_t id = 0;                             ///< stable over the track's life, never reused
+  Eigen::Vector3f position = Eigen::Vector3f::Zero(); ///< centroid (input frame)
+  Eigen::Vector3f velocity = Eigen::Vector3f::Zero(); ///< from the motion model (m/s)
+  float height = 0.0f;                              ///< top of head above the ground
+  PersonFrame frame;                                ///< where the descriptor grid sits
+  /** The person's points at person_voxel_size, in the input frame; never modified after update(). */
+  boost::shared_ptr<Cloud> cloud;
+};
+
+/** @brief What one update found. */
+struct TrackerResult
+{
+  std::vector<TrackedPerson> people;  ///< confirmed tracks seen in this frame
+  std::vector<std::uint32_t> lost;    ///< tracks that ended at this frame
+  Eigen::Vector4f ground = Eigen::Vector4f::Zero();
+  bool ground_valid = false;          ///< false until a ground plane has been found
+  bool reset = false;                 ///< time went backwards: all tracks were dropped first
+};
+
+/**
+ * @brief Detects and tracks people. One instance per camera stream; not thread-safe.
+ */
+class PeopleTracker
+{
+public:
+  /** @throws std::invalid_argument on bad parameters or an unreadable HOG classifier file. */
+  explicit PeopleTracker(const TrackerParams& params = TrackerParams());
+  ~PeopleTracker();
+
+  /**
+   * @brief Processes one cloud (organized or not; y of the camera roughly down unless the ground
+   *        is given) taken at @p stamp, with the camera at @p camera_origin in the cloud's frame.
+   * Empty, all-NaN or floorless clouds give a result with no people (and ground_valid false
+   * until a floor is seen); they never throw.
+   */
+  TrackerResult update(const Cloud& cloud, double stamp,
+                       const Eigen::Vector3f& camera_origin = Eigen::Vector3f::Zero());
+
+  /** @brief Drops all tracks and the ground estimate. */
+  void reset();
+
+  const TrackerParams& params() const { return params_; }
+
+private:
+  struct Impl;
+  TrackerParams params_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace action_flow
