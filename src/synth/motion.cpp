@@ -276,7 +276,7 @@ const std::map<std::string, ActionDef>& actionTable()
         [](Context& c, Pose& p, float u, float) {
           const float bend = envelope(u, 0.08f, 0.42f, 0.55f, 0.88f);
           const float squat = c.trait(0.0f, 1.0f);  // some bend the back, some the knees
-          p.pitch += bend * (1.5f - 0.6f * squat);
+          p.pitch += bend * (1.9f - 0.7f * squat);  // the lower spine bends half as much (solvePose)
           p.pelvis.z() -= bend * (0.25f + 0.2f * squat) * c.sc;
           p.pelvis.x() -= bend * (0.15f - 0.08f * squat) * c.sc;
           const Eigen::Vector3f object(c.trait(0.3f, 0.4f) * c.sc, -c.sideSign(c.dom) * 0.1f * c.sc, 0.09f);

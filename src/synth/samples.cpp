@@ -510,13 +510,13 @@ void SampleRenderer::renderImages(int i, FrameImages& out) const
 
 void SampleRenderer::render(int i, Cloud& out, std::vector<std::uint8_t>* mask) const
 {
-  FrameImages im;
+  thread_local FrameImages im;  // reused: see SceneRenderer::render
   renderImages(i, im);
   impl_->scene->toCloud(im, out);
   out.header.stamp = std::uint64_t(std::llround(stamp(i) * 1e6));
   out.header.seq = std::uint32_t(i);
   if (mask)
-    *mask = std::move(im.mask);
+    *mask = im.mask;
 }
 
 }  // namespace synth

@@ -23,10 +23,16 @@ constexpr float kPi = 3.14159265358979f;
 
 float fract(float x) { return x - std::floor(x); }
 
+// One round of mixing is plenty for texture lattices.
+inline std::uint64_t hash3(std::uint64_t x, std::uint64_t y, std::uint64_t z, std::uint64_t seed)
+{
+  return mix64(x * 0x9e3779b97f4a7c15ULL + y * 0xc2b2ae3d27d4eb4fULL + z * 0x165667b19e3779f9ULL + seed);
+}
+
 float cellNoise(const Eigen::Vector3f& p, float cell, std::uint32_t seed)
 {
   const auto i = [&](float v) { return std::uint64_t(std::int64_t(std::floor(v / cell))); };
-  return unit(hash64(i(p.x()), i(p.y()), i(p.z()), seed));
+  return unit(hash3(i(p.x()), i(p.y()), i(p.z()), seed));
 }
 
 // Trilinear value noise in [0,1], smooth at the scale of one cell.
@@ -39,7 +45,7 @@ float valueNoise(const Eigen::Vector3f& p, float cell, std::uint32_t seed)
   const std::int64_t ix = std::int64_t(fx), iy = std::int64_t(fy), iz = std::int64_t(fz);
   float v[8];
   for (int k = 0; k < 8; ++k)
-    v[k] = unit(hash64(std::uint64_t(ix + (k & 1)), std::uint64_t(iy + ((k >> 1) & 1)), std::uint64_t(iz + (k >> 2)), seed));
+    v[k] = unit(hash3(std::uint64_t(ix + (k & 1)), std::uint64_t(iy + ((k >> 1) & 1)), std::uint64_t(iz + (k >> 2)), seed));
   const float x00 = v[0] + (v[1] - v[0]) * sx, x10 = v[2] + (v[3] - v[2]) * sx;
   const float x01 = v[4] + (v[5] - v[4]) * sx, x11 = v[6] + (v[7] - v[6]) * sx;
   const float y0 = x00 + (x10 - x00) * sy, y1 = x01 + (x11 - x01) * sy;
@@ -638,7 +644,10 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
   const size_t n = size_t(w) * h;
   out.width = w;
   out.height = h;
-  std::vector<float> exact = m.room_depth;
+  // Per-thread scratch: fresh multi-megabyte buffers every frame cost more in page faults than the
+  // rendering itself.
+  thread_local std::vector<float> exact, disp;
+  exact = m.room_depth;
   out.rgb = m.room_rgb;
   out.mask.assign(n, 0);
   std::vector<Prim> prims;
@@ -664,10 +673,11 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
   const float sigma_total = float(cam.noise_coefficient) * fb;
   const float sigma_noise = std::sqrt(std::max(0.0f, sigma_total * sigma_total - step * step / 12.0f));
   const std::uint64_t frame_key = hash64(noise_seed, std::uint64_t(frame), 0x6b696e656374ULL);
-  std::vector<float> disp(n);
+  disp.resize(n);
   for (size_t i = 0; i < n; ++i)
     disp[i] = std::isfinite(exact[i]) ? fb / exact[i] : 0.0f;
   const float drop = float(cam.edge_dropout);
+  const int nb = std::max(1, cam.noise_block);
   for (int v = 0; v < h; ++v)
   {
     // The projector sits beside the camera: a near edge hides the pattern from the surface to its
@@ -684,7 +694,7 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
         out.depth[i] = kNaN;
         continue;
       }
-      const std::uint64_t hsh = hash64(frame_key, i);
+      const std::uint64_t hsh = mix64(frame_key + i * 0x9e3779b97f4a7c15ULL);
       // Depth edges: the neighbour right or below at a clearly different depth.
       const float tol = 0.04f + 0.02f * z;
       const bool edge = (u + 1 < w && std::abs(exact[i + 1] - z) > tol) || (u > 0 && std::abs(exact[i - 1] - z) > tol) ||
@@ -694,22 +704,25 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
         out.depth[i] = kNaN;
         continue;
       }
-      const float d = disp[i] + sigma_noise * gauss(hsh);
-      const float dq = std::round(d / step) * step;
+      // The Kinect matches the speckle pattern over a window, so neighbouring pixels share their
+      // error: one noise value per block of noise_block x noise_block pixels.
+      const std::uint64_t block = size_t(v / nb) * size_t(w) + size_t(u / nb);
+      const float d = disp[i] + sigma_noise * gauss(mix64(frame_key ^ (block * 0xd1b54a32d192ed03ULL)));
+      const float dq = float(int(d / step + 0.5f)) * step;  // d > 0
       z = dq > 0 ? fb / dq : kInf;
-      z = std::round(z * 1000.0f) / 1000.0f;  // the driver reports millimetres
+      z = float(int(z * 1000.0f + 0.5f)) * 0.001f;  // the driver reports millimetres
       out.depth[i] = (z >= min_d && z <= max_d) ? z : kNaN;
     }
   }
   const float cs = float(cam.color_noise) / 0.408f;  // the triangular variable's std is 0.408
   for (size_t i = 0; i < n; ++i)
   {
-    const std::uint64_t hsh = hash64(frame_key ^ 0xc0104ULL, i);
+    const std::uint64_t hsh = mix64((frame_key ^ 0xc0104ULL) + i * 0x9e3779b97f4a7c15ULL);
     for (int c = 0; c < 3; ++c)
     {
       const float tri = (float((hsh >> (16 * c)) & 0xff) + float((hsh >> (16 * c + 8)) & 0xff) - 255.0f) / 255.0f;
       const float val = float(out.rgb[3 * i + c]) + cs * tri;
-      out.rgb[3 * i + c] = std::uint8_t(std::clamp(val + 0.5f, 0.0f, 255.0f));
+      out.rgb[3 * i + c] = std::uint8_t(std::clamp(val + 0.5f, 0.0f, 255.0f));  // truncation after +0.5 rounds
     }
   }
 }

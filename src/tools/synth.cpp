@@ -20,6 +20,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -49,7 +50,7 @@ OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
   --points               also write the organized PointCloud2 (large: ~10 MB a frame)
   --raw-images           sensor_msgs/Image topics instead of <topic>/compressed (JPEG colour, PNG depth)
   --compression none|lz4|bz2   bag chunk compression (default lz4)
-  --jpeg-quality Q       colour JPEG quality 1-100 (default 90)
+  --jpeg-quality Q       colour JPEG quality 1-100 (default 80)
   --points-topic T, --rgb-topic T, --depth-topic T, --info-topic T, --mask-topic T, --tf-topic T
   --list                 print the selected samples and exit
   --preview              write PNGs instead of bags: OUT/<sample>_fNNN_color.png and _depth.png
@@ -91,7 +92,10 @@ std::string fmtTime(double s)
 class Progress
 {
 public:
-  Progress(size_t samples, bool quiet) : samples_(samples), quiet_(quiet), start_(std::chrono::steady_clock::now()) {}
+  Progress(size_t samples, bool quiet)
+    : samples_(samples), quiet_(quiet), tty_(isatty(2) != 0), start_(std::chrono::steady_clock::now())
+  {
+  }
   void frame()
   {
     ++frames_;
@@ -116,23 +120,24 @@ private:
       return;
     std::lock_guard<std::mutex> lock(mutex_);
     const double t = seconds();
-    if (!last && t - last_draw_ < 0.25)
+    // A terminal gets a bar redrawn in place; a log gets a line every 10 s.
+    if (!last && t - last_draw_ < (tty_ ? 0.25 : 10.0))
       return;
     last_draw_ = t;
     const size_t done = done_;
     const int width = 30;
     const int fill = samples_ ? int(width * done / samples_) : width;
     const double eta = done ? t / done * (samples_ - done) : 0.0;
-    std::fprintf(stderr, "\r[%s%s] %zu/%zu samples, %ld frames, %.1f frames/s, elapsed %s, eta %s ",
-                 std::string(size_t(fill), '#').c_str(), std::string(size_t(width - fill), '.').c_str(), done,
+    std::fprintf(stderr, "%s[%s%s] %zu/%zu samples, %ld frames, %.1f frames/s, elapsed %s, eta %s ",
+                 tty_ ? "\r" : "", std::string(size_t(fill), '#').c_str(), std::string(size_t(width - fill), '.').c_str(), done,
                  samples_, frames_.load(), t > 0 ? frames_ / t : 0.0, fmtTime(t).c_str(),
                  done ? fmtTime(eta).c_str() : "?");
-    if (last)
+    if (last || !tty_)
       std::fprintf(stderr, "\n");
     std::fflush(stderr);
   }
   size_t samples_;
-  bool quiet_;
+  bool quiet_, tty_;
   std::chrono::steady_clock::time_point start_;
   std::atomic<size_t> done_{ 0 };
   std::atomic<long> frames_{ 0 };

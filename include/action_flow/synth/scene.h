@@ -36,6 +36,9 @@ struct CameraModel
   /** Depth noise, standard deviation = noise_coefficient * z^2 (Khoshelham & Elberink 2012),
    *  quantisation included. */
   double noise_coefficient = 1.425e-3;
+  /** Depth noise is shared by blocks of this many pixels square: the sensor correlates the speckle
+   *  pattern over a window, so its errors are spatially correlated, not independent per pixel. */
+  int noise_block = 3;
   double color_noise = 3.0;                 ///< colour sensor noise, standard deviation (0-255 scale)
   double edge_dropout = 0.5;                ///< probability that a pixel at a depth edge has no depth
   bool noise = true;                        ///< false: exact depth and colour, no dropout (tests)
