@@ -257,6 +257,8 @@ struct SceneRenderer::Impl
   CameraModel cam;
   Eigen::Isometry3f world_from_optical, optical_from_world;
   std::vector<float> room_depth;       // noise-free, +inf where nothing
+  std::vector<float> room_disp;        // f*b / room_depth, 0 where nothing
+  std::vector<float> depth_of_step;    // reported depth (m, NaN outside the range) of k disparity steps
   std::vector<std::uint8_t> room_rgb;  // shaded
   Eigen::Vector3f light_world;
 
@@ -279,6 +281,19 @@ SceneRenderer::SceneRenderer(const CameraModel& camera, const Room& room) : impl
   impl_->optical_from_world = impl_->world_from_optical.inverse();
   impl_->light_world = Eigen::Vector3f(-0.5f, 0.3f, 1.0f).normalized();
   impl_->castRoom(room);
+  // Depth of each quantised disparity, as the driver reports it: millimetres, NaN out of range.
+  const double fb = camera.fx * camera.baseline;
+  const int steps = int(fb / (camera.min_depth * camera.disparity_step)) + 2;
+  impl_->depth_of_step.assign(size_t(steps) + 1, kNaN);
+  for (int k = 1; k <= steps; ++k)
+  {
+    const double z = std::round(fb / (k * camera.disparity_step) * 1000.0) / 1000.0;
+    if (z >= camera.min_depth && z <= camera.max_depth)
+      impl_->depth_of_step[size_t(k)] = float(z);
+  }
+  impl_->room_disp.resize(impl_->room_depth.size());
+  for (size_t i = 0; i < impl_->room_depth.size(); ++i)
+    impl_->room_disp[i] = std::isfinite(impl_->room_depth[i]) ? float(fb) / impl_->room_depth[i] : 0.0f;
 }
 
 SceneRenderer::~SceneRenderer() = default;
@@ -673,13 +688,23 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
   const float sigma_total = float(cam.noise_coefficient) * fb;
   const float sigma_noise = std::sqrt(std::max(0.0f, sigma_total * sigma_total - step * step / 12.0f));
   const std::uint64_t frame_key = hash64(noise_seed, std::uint64_t(frame), 0x6b696e656374ULL);
+  // Disparity: the room's is fixed, only body pixels need a division.
   disp.resize(n);
   for (size_t i = 0; i < n; ++i)
-    disp[i] = std::isfinite(exact[i]) ? fb / exact[i] : 0.0f;
+    disp[i] = out.mask[i] ? fb / exact[i] : m.room_disp[i];
   const float drop = float(cam.edge_dropout);
   const int nb = std::max(1, cam.noise_block);
+  const float inv_step = 1.0f / step;
+  const int max_k = int(m.depth_of_step.size()) - 1;
+  thread_local std::vector<float> block_noise;
+  block_noise.resize(size_t(w / nb + 1));
   for (int v = 0; v < h; ++v)
   {
+    // The Kinect matches the speckle pattern over a window, so neighbouring pixels share their
+    // error: one noise value per block of noise_block x noise_block pixels.
+    if (v % nb == 0)
+      for (size_t b = 0; b < block_noise.size(); ++b)
+        block_noise[b] = sigma_noise * gauss(mix64(frame_key ^ ((size_t(v / nb) * size_t(w) + b) * 0xd1b54a32d192ed03ULL)));
     // The projector sits beside the camera: a near edge hides the pattern from the surface to its
     // left over a width equal to the disparity difference (right-to-left sweep).
     float shadow = -kInf;
@@ -688,30 +713,24 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
       const size_t i = size_t(v) * w + u;
       const bool shadowed = shadow > disp[i] + 0.25f;
       shadow = std::max(shadow, disp[i]) - 1.0f;
-      float z = exact[i];
-      if (!std::isfinite(z) || shadowed)
+      const float z = exact[i];
+      if (!(z < kInf) || shadowed)
       {
         out.depth[i] = kNaN;
         continue;
       }
-      const std::uint64_t hsh = mix64(frame_key + i * 0x9e3779b97f4a7c15ULL);
       // Depth edges: the neighbour right or below at a clearly different depth.
       const float tol = 0.04f + 0.02f * z;
       const bool edge = (u + 1 < w && std::abs(exact[i + 1] - z) > tol) || (u > 0 && std::abs(exact[i - 1] - z) > tol) ||
                         (v + 1 < h && std::abs(exact[i + w] - z) > tol) || (v > 0 && std::abs(exact[i - w] - z) > tol);
-      if (edge && unit(mix64(hsh)) < drop)
+      if (edge && unit(mix64(frame_key + i * 0x9e3779b97f4a7c15ULL)) < drop)
       {
         out.depth[i] = kNaN;
         continue;
       }
-      // The Kinect matches the speckle pattern over a window, so neighbouring pixels share their
-      // error: one noise value per block of noise_block x noise_block pixels.
-      const std::uint64_t block = size_t(v / nb) * size_t(w) + size_t(u / nb);
-      const float d = disp[i] + sigma_noise * gauss(mix64(frame_key ^ (block * 0xd1b54a32d192ed03ULL)));
-      const float dq = float(int(d / step + 0.5f)) * step;  // d > 0
-      z = dq > 0 ? fb / dq : kInf;
-      z = float(int(z * 1000.0f + 0.5f)) * 0.001f;  // the driver reports millimetres
-      out.depth[i] = (z >= min_d && z <= max_d) ? z : kNaN;
+      // Quantised disparity k steps -> depth in millimetres, in range or NaN (table).
+      const int k = int((disp[i] + block_noise[size_t(u / nb)]) * inv_step + 0.5f);
+      out.depth[i] = m.depth_of_step[size_t(std::clamp(k, 0, max_k))];
     }
   }
   const float cs = float(cam.color_noise) / 0.408f;  // the triangular variable's std is 0.408

@@ -42,6 +42,7 @@ OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
   --repetitions N        ias: repetitions of each action (default 3)
   --seed N               dataset seed (default 1); same seed, byte-identical output
   --person ID, --action NAME, --repetition N   render only matching samples
+  --every N              only every Nth selected sample (a spread-out subset, e.g. for timing)
   --limit N              only the first N selected samples
   --frames N             at most N frames per sample
   --out DIR              output folder (default synth_data)
@@ -151,7 +152,7 @@ int main(int argc, char** argv)
 {
   std::string dataset = "ias", skeletons, out = "synth_data", montage;
   std::string only_person, only_action;
-  int only_rep = 0, people = 12, repetitions = 3, limit = 0, max_frames = 0, jobs = 1;
+  int only_rep = 0, every = 1, people = 12, repetitions = 3, limit = 0, max_frames = 0, jobs = 1;
   std::uint64_t seed = 1;
   bool all_msr = false, skip_existing = false, list = false, preview = false, quiet = false;
   std::vector<double> preview_at;
@@ -187,6 +188,8 @@ int main(int argc, char** argv)
       only_action = value();
     else if (a == "--repetition")
       only_rep = toInt(a, value(), 1, 99);
+    else if (a == "--every")
+      every = toInt(a, value(), 1, 1000000);
     else if (a == "--limit")
       limit = toInt(a, value(), 1, 1000000);
     else if (a == "--frames")
@@ -272,10 +275,13 @@ int main(int argc, char** argv)
       fail("--action: unknown action '" + only_action + "'");
   }
   std::vector<SampleSpec> selected;
+  size_t matching = 0;
   for (SampleSpec s : specs)
   {
     if ((!only_person.empty() && s.person != only_person) || (!only_action.empty() && s.action != only_action) ||
         (only_rep && s.repetition != only_rep))
+      continue;
+    if (matching++ % size_t(every) != 0)
       continue;
     s.max_frames = max_frames;
     selected.push_back(s);

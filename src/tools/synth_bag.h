@@ -28,7 +28,7 @@ struct BagOptions
   /** sensor_msgs/Image on the topics themselves instead of CompressedImage on <topic>/compressed. */
   bool raw_images = false;
   int jpeg_quality = 80;             ///< image_transport's default
-  int png_level = 1;                 ///< zlib level of the depth and mask PNGs
+  int png_level = 3;                 ///< zlib level of the depth and mask PNGs
   std::string compression = "lz4";   ///< bag chunk compression: none, lz4, bz2
 };
 
