@@ -497,15 +497,20 @@ Skeleton SampleRenderer::skeleton(int i) const
   return transformed(worldSkeleton(i), impl_->camera.worldFromOptical().inverse());
 }
 
-void SampleRenderer::renderImages(int i, FrameImages& out) const
+PosedBody SampleRenderer::posedBody(int i, std::uint8_t id) const
 {
   PosedBody body;
   body.shape = impl_->actor.shape;
   body.appearance = &impl_->actor.appearance;
   body.joints = worldSkeleton(i);
   body.forward = impl_->forward[size_t(i)];
-  body.id = 1;
-  impl_->scene->render({ body }, impl_->noise_seed, i, out);
+  body.id = id;
+  return body;
+}
+
+void SampleRenderer::renderImages(int i, FrameImages& out) const
+{
+  impl_->scene->render({ posedBody(i, 1) }, impl_->noise_seed, i, out);
 }
 
 void SampleRenderer::render(int i, Cloud& out, std::vector<std::uint8_t>* mask) const

@@ -287,3 +287,30 @@ TEST(Msr, RendersRealSkeletonsWithTheRightArmWaving)
   r.render(r.frames() / 2, cloud, &mask);
   EXPECT_GT(std::count(mask.begin(), mask.end(), 1), 4000);
 }
+
+TEST(SceneRenderer, TwoPeopleGetTheirOwnMaskIds)
+{
+  const SampleRenderer a(ias("p01", "wave", 1, 5)), b(ias("p02", "walk", 1, 5));
+  PosedBody first = a.posedBody(4, 1), second = b.posedBody(4, 2);
+  // Put the second person 1.2 m to the side of the first.
+  const Eigen::Vector3f shift = pelvis(first.joints) + Eigen::Vector3f(0, 1.2f, 0) - pelvis(second.joints);
+  for (auto& j : second.joints.joints)
+    j += Eigen::Vector3f(shift.x(), shift.y(), 0);
+  CameraModel cam;
+  const SceneRenderer scene(cam, Room::lab(1));
+  FrameImages im;
+  scene.render({ first, second }, 1, 0, im);
+  const long ones = std::count(im.mask.begin(), im.mask.end(), 1), twos = std::count(im.mask.begin(), im.mask.end(), 2);
+  EXPECT_GT(ones, 3000);
+  EXPECT_GT(twos, 3000);
+  // The second person stands on the camera's left (world +y): smaller image columns.
+  double u1 = 0, u2 = 0;
+  for (size_t i = 0; i < im.mask.size(); ++i)
+  {
+    if (im.mask[i] == 1)
+      u1 += double(i % size_t(im.width)) / ones;
+    if (im.mask[i] == 2)
+      u2 += double(i % size_t(im.width)) / twos;
+  }
+  EXPECT_LT(u2, u1 - 50);
+}

@@ -121,6 +121,14 @@ public:
   /** @brief The 15 joints of frame @p i in the world frame (floor origin below the camera, z up). */
   const Skeleton& worldSkeleton(int i) const;
 
+  /**
+   * @brief The person of frame @p i as a body for SceneRenderer, with mask id @p id: to compose
+   *        scenes of several people (e.g. for tracker tests), pose bodies of several samples, move
+   *        them apart (PosedBody::joints is in the world frame) and render them with one
+   *        SceneRenderer. The body refers to this renderer's appearance: keep the renderer alive.
+   */
+  PosedBody posedBody(int i, std::uint8_t id = 1) const;
+
   /** @brief The camera (with this sample's height and tilt). */
   const CameraModel& camera() const;
   const SceneRenderer& scene() const;
