@@ -26,6 +26,9 @@ struct GroundParams
   int max_candidates = 4;
   /** A refined plane may move this much per update before a full search is done instead. */
   float max_step_angle = 0.15f, max_step_offset = 0.15f;
+  /** A plane's points per occupied cell of a 2 inlier_distance grid on it (a voxelised surface
+   *  gives about 4; scattered points about 1). */
+  float min_density = 2.0f;
   /** When no floor plane is visible, assume one below the lowest points (see GroundEstimator). */
   bool assume_below_points = true;
   /** ... if at least this many points lie within 2 inlier_distance of that level ... */
@@ -77,6 +80,7 @@ public:
 private:
   bool search(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up);
   bool refine(const Cloud& cloud, const Eigen::Vector3f& camera);
+  bool dense(const Cloud& cloud, const pcl::Indices& inliers, const Eigen::Vector4f& plane) const;
   bool assumeBelow(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up);
 
   GroundParams params_;

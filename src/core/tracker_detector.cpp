@@ -36,6 +36,10 @@ std::uint64_t voxelKey(const PointT& p, float inverse_leaf)
   return (part(p.x) << 42) | (part(p.y) << 21) | part(p.z);
 }
 
+// Mean number of points (itself included) within the clustering tolerance of a person's voxel,
+// at least: about 12 on a surface voxelised at a third of the tolerance, 1-3 for scattered points.
+constexpr float kMinSurfaceNeighbours = 5.0f;
+
 void require(bool ok, const char* what)
 {
   if (!ok)
@@ -285,8 +289,8 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
 
   // ---- Euclidean clusters ----
   std::vector<pcl::PointIndices> clusters;
+  auto tree = pcl::make_shared<pcl::search::KdTree<PointT>>();
   {
-    auto tree = pcl::make_shared<pcl::search::KdTree<PointT>>();
     tree->setInputCloud(level);
     pcl::EuclideanClusterExtraction<PointT> ec;
     ec.setClusterTolerance(params_.cluster_tolerance);
@@ -317,13 +321,56 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
     sub.subcluster(people);
   }
 
-  // ---- size limits ----
+  // ---- pcl::people hands a point between two heads to the first head within min_head_distance
+  // (the taller one): give it to the nearest head on the floor instead, so that each person's
+  // cloud holds none of a neighbour's shoulder ----
+  std::vector<pcl::Indices> members(people.size());
+  {
+    std::vector<Eigen::Vector2f> heads(people.size(), Eigen::Vector2f::Zero());
+    for (std::size_t k = 0; k < people.size(); ++k)
+    {
+      const auto& idx = people[k].getIndices().indices;
+      float top_y = 1e9f;
+      for (const auto i : idx)
+        top_y = std::min(top_y, (*level)[i].y);
+      int n = 0;
+      for (const auto i : idx)
+        if ((*level)[i].y < top_y + 0.2f)
+        {
+          heads[k] += Eigen::Vector2f((*level)[i].x, (*level)[i].z);
+          ++n;
+        }
+      heads[k] /= static_cast<float>(std::max(1, n));
+    }
+    for (std::size_t k = 0; k < people.size(); ++k)
+      for (const auto i : people[k].getIndices().indices)
+      {
+        const Eigen::Vector2f q((*level)[i].x, (*level)[i].z);
+        std::size_t best = k;
+        for (std::size_t m = 0; m < people.size(); ++m)
+          if ((heads[m] - q).squaredNorm() < (heads[best] - q).squaredNorm())
+            best = m;
+        // Only between neighbours: a far-away head never takes points.
+        if (best != k && (heads[best] - q).norm() > params_.min_head_distance)
+          best = k;
+        members[best].push_back(i);
+      }
+  }
+
+  // ---- size limits, and a surface: a person's voxels have neighbours all around (scattered
+  // points have one or two within the clustering tolerance) ----
   std::unordered_map<std::uint64_t, int> label_of_voxel;
   const float inverse_leaf = 1.0f / params_.detection_voxel_size;
-  for (auto& pc : people)
+  pcl::Indices neighbours;
+  std::vector<float> distances;
+  for (const auto& idx : members)
   {
-    const auto& idx = pc.getIndices().indices;
     if (static_cast<int>(idx.size()) < params_.min_points)
+      continue;
+    std::size_t around = 0;
+    for (const auto i : idx)
+      around += static_cast<std::size_t>(tree->radiusSearch((*level)[i], params_.cluster_tolerance, neighbours, distances));
+    if (static_cast<float>(around) < kMinSurfaceNeighbours * static_cast<float>(idx.size()))
       continue;
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo, sum = Eigen::Vector3f::Zero();
     float top = -1e9f;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 #include <stdexcept>
@@ -32,6 +33,22 @@ bool normalise(Eigen::Vector4f& plane, const Eigen::Vector3f& camera)
   if (heightAbove(plane, camera) < 0.0f)
     plane = -plane;
   return true;
+}
+
+// Mean number of points per occupied cell of a 2 * spacing grid laid on the plane.
+float pointsPerCell(const Cloud& cloud, const pcl::Indices& indices, const Eigen::Vector4f& plane, float spacing)
+{
+  const Eigen::Vector3f n = plane.head<3>(), a = n.unitOrthogonal(), b = n.cross(a);
+  std::unordered_set<std::uint64_t> cells;
+  const float inv = 1.0f / (2.0f * spacing);
+  for (const auto i : indices)
+  {
+    const Eigen::Vector3f p = cloud[i].getVector3fMap();
+    const auto u = static_cast<std::int64_t>(std::floor(a.dot(p) * inv)) & 0xFFFFFFFF;
+    const auto v = static_cast<std::int64_t>(std::floor(b.dot(p) * inv)) & 0xFFFFFFFF;
+    cells.insert((static_cast<std::uint64_t>(u) << 32) | static_cast<std::uint64_t>(v));
+  }
+  return cells.empty() ? 0.0f : static_cast<float>(indices.size()) / static_cast<float>(cells.size());
 }
 
 float angleBetween(const Eigen::Vector3f& a, const Eigen::Vector3f& b)
@@ -133,6 +150,11 @@ bool GroundEstimator::refine(const Cloud& cloud, const Eigen::Vector3f& camera)
   return true;
 }
 
+bool GroundEstimator::dense(const Cloud& cloud, const pcl::Indices& inliers, const Eigen::Vector4f& plane) const
+{
+  return pointsPerCell(cloud, inliers, plane, params_.inlier_distance) >= params_.min_density;
+}
+
 bool GroundEstimator::search(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up)
 {
   ++searches_;
@@ -176,6 +198,10 @@ bool GroundEstimator::search(const Cloud& cloud, const Eigen::Vector3f& camera, 
       continue;
     const float h = heightAbove(plane, camera);
     if (h < params_.min_camera_height || h > params_.max_camera_height)
+      continue;
+    // A floor is a surface: its voxels cover the area they span (a slab cut through scattered
+    // points is sparse). Counted on cells of twice the inlier distance (about four voxels each).
+    if (!dense(cloud, inliers, plane))
       continue;
     // Nothing stands below a floor: a table top has chair legs and feet below it, and a plane
     // RANSAC strung through clutter has clutter on both sides.
