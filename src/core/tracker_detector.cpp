@@ -193,11 +193,6 @@ void PeopleDetector::reset()
   impl_->ground.reset();
 }
 
-int PeopleDetector::groundSearches() const
-{
-  return impl_->ground.searches();
-}
-
 DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f& origin)
 {
   DetectionResult out;

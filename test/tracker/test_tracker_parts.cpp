@@ -122,6 +122,10 @@ TEST(GroundEstimator, TiltedFloorAndAFloorlessCloud)
   GroundEstimator g;
   ASSERT_TRUE(g.update(c, Eigen::Vector3f::Zero(), Eigen::Vector3f(0, -1, 0)));
   EXPECT_TRUE(g.plane().isApprox(Eigen::Vector4f(up.x(), up.y(), up.z(), 1.1f), 1e-3f)) << g.plane().transpose();
+  EXPECT_EQ(g.searches(), 1);
+  // The next frames refine the plane found instead of searching again.
+  ASSERT_TRUE(g.update(c, Eigen::Vector3f::Zero(), Eigen::Vector3f(0, -1, 0)));
+  EXPECT_EQ(g.searches(), 1);
 
   // A single upright box floating in space: no floor, and no bottom level wide enough to assume one.
   Cloud box;
