@@ -1,0 +1,211 @@
+#include "sample_sources.h"
+
+#include <action_flow/depth_cloud.h>
+
+#include <pcl_conversions/pcl_conversions.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <cstring>
+#include <map>
+#include <sys/stat.h>
+
+namespace action_flow
+{
+namespace tools
+{
+namespace
+{
+// Frames of one bag: the organized PointCloud2 topic if the bag has it, else depth + rgb
+// (+ camera_info) with equal stamps made into a cloud.
+class BagFrameSource : public FrameSource
+{
+public:
+  BagFrameSource(const std::string& path, const BagTopics& topics) : path_(path), topics_(topics)
+  {
+    try
+    {
+      bag_.open(path, rosbag::bagmode::Read);
+    }
+    catch (const rosbag::BagException& e)
+    {
+      throw DatasetError(path + ": cannot open bag (" + e.what() + ")");
+    }
+    rosbag::View probe(bag_, rosbag::TopicQuery(std::vector<std::string>{ topics_.points }));
+    use_points_ = probe.size() > 0;
+    const std::vector<std::string> wanted =
+        use_points_ ? std::vector<std::string>{ topics_.points } :
+                      std::vector<std::string>{ topics_.depth, topics_.rgb, topics_.info };
+    view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(wanted));
+    if (view_->size() == 0)
+      throw DatasetError(path + ": bag has neither " + topics_.points + " nor " + topics_.depth + " + " + topics_.rgb);
+    it_ = view_->begin();
+  }
+
+  bool next(Cloud& cloud, double& stamp) override
+  {
+    for (; it_ != view_->end(); ++it_)
+    {
+      const rosbag::MessageInstance& m = *it_;
+      if (use_points_)
+      {
+        auto msg = m.instantiate<sensor_msgs::PointCloud2>();
+        if (!msg)
+          continue;
+        pcl::fromROSMsg(*msg, cloud);
+        stamp = msg->header.stamp.toSec();
+        ++it_;
+        return true;
+      }
+      if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
+      {
+        k_.fx = info->K[0], k_.cx = info->K[2], k_.fy = info->K[4], k_.cy = info->K[5];
+        have_info_ = true;
+      }
+      else if (auto img = m.instantiate<sensor_msgs::Image>())
+      {
+        (m.getTopic() == topics_.depth ? depth_ : rgb_) = img;
+      }
+      if (depth_ && rgb_ && have_info_ && depth_->header.stamp == rgb_->header.stamp)
+      {
+        toCloud(cloud);
+        stamp = depth_->header.stamp.toSec();
+        depth_.reset();
+        rgb_.reset();
+        ++it_;
+        return true;
+      }
+    }
+    return false;
+  }
+
+private:
+  void toCloud(Cloud& cloud)
+  {
+    namespace enc = sensor_msgs::image_encodings;
+    const int w = depth_->width, h = depth_->height;
+    if (static_cast<int>(rgb_->width) != w || static_cast<int>(rgb_->height) != h)
+      throw DatasetError(path_ + ": depth and colour images differ in size");
+    depth_m_.resize(static_cast<std::size_t>(w) * h);
+    if (depth_->encoding == enc::TYPE_32FC1)
+      for (int v = 0; v < h; ++v)
+        std::memcpy(&depth_m_[v * w], &depth_->data[v * depth_->step], sizeof(float) * w);
+    else if (depth_->encoding == enc::TYPE_16UC1)
+      for (int v = 0; v < h; ++v)
+        for (int u = 0; u < w; ++u)
+        {
+          std::uint16_t mm;
+          std::memcpy(&mm, &depth_->data[v * depth_->step + 2 * u], 2);
+          depth_m_[v * w + u] = mm ? mm * 0.001f : 0.0f;
+        }
+    else
+      throw DatasetError(path_ + ": topic " + topics_.depth + " has encoding '" + depth_->encoding +
+                         "' (expected 32FC1 or 16UC1)");
+    const bool bgr = rgb_->encoding == enc::BGR8;
+    if (!bgr && rgb_->encoding != enc::RGB8)
+      throw DatasetError(path_ + ": topic " + topics_.rgb + " has encoding '" + rgb_->encoding +
+                         "' (expected rgb8 or bgr8)");
+    rgb8_.resize(static_cast<std::size_t>(3) * w * h);
+    for (int v = 0; v < h; ++v)
+      for (int u = 0; u < w; ++u)
+      {
+        const std::uint8_t* p = &rgb_->data[v * rgb_->step + 3 * u];
+        std::uint8_t* q = &rgb8_[3 * (v * w + u)];
+        q[0] = bgr ? p[2] : p[0];
+        q[1] = p[1];
+        q[2] = bgr ? p[0] : p[2];
+      }
+    depthToCloud(depth_m_.data(), rgb8_.data(), w, h, k_, cloud);
+  }
+
+  std::string path_;
+  BagTopics topics_;
+  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  bool use_points_ = false;
+  bool have_info_ = false;
+  Intrinsics k_;
+  sensor_msgs::Image::ConstPtr depth_, rgb_;
+  std::vector<float> depth_m_;
+  std::vector<std::uint8_t> rgb8_;
+};
+
+std::string fileFingerprint(const std::string& path)
+{
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0)
+    return "missing";
+  return std::to_string(st.st_size) + "-" + std::to_string(st.st_mtime);
+}
+}  // namespace
+
+std::vector<SampleRef> samplesFromIndex(const std::string& index, const BagTopics& topics,
+                                        const std::vector<std::string>& known_actions)
+{
+  std::vector<SampleRef> out;
+  for (const IndexEntry& e : readIndex(index, known_actions))
+  {
+    SampleRef s;
+    s.key = e.person + "_" + e.action + "_" + std::to_string(e.repetition);
+    for (char& c : s.key)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-')
+        c = '_';
+    s.person = e.person;
+    s.action = e.action;
+    s.repetition = e.repetition;
+    s.fingerprint = "bag:" + e.path + ":" + fileFingerprint(e.path);
+    const std::string path = e.path;
+    s.open = [path, topics]() -> std::unique_ptr<FrameSource> {
+      return std::make_unique<BagFrameSource>(path, topics);
+    };
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace tools
+}  // namespace action_flow
+
+#include "cli.h"
+
+#include <cstdlib>
+
+namespace action_flow
+{
+namespace tools
+{
+void addSampleOptions(std::set<std::string>& valued)
+{
+  valued.insert({ "points-topic", "depth-topic", "rgb-topic", "info-topic", "synth", "people", "repetitions", "seed",
+                  "msr-dir" });
+}
+
+std::vector<SampleRef> selectSamples(const Args& args)
+{
+  BagTopics topics;
+  topics.points = args.get("points-topic", topics.points);
+  topics.depth = args.get("depth-topic", topics.depth);
+  topics.rgb = args.get("rgb-topic", topics.rgb);
+  topics.info = args.get("info-topic", topics.info);
+  if (args.has("index") == args.has("synth"))
+    throw std::invalid_argument("give exactly one of --index INDEX.csv and --synth ias|msr");
+  if (args.has("index"))
+    return samplesFromIndex(args.get("index"), topics);
+  return samplesFromSynth(args);
+}
+
+std::string cacheDir(const Args& args)
+{
+  if (args.has("cache"))
+    return args.get("cache");
+  const char* home = std::getenv("HOME");
+  return std::string(home ? home : ".") + "/.ros/action_flow/cache";
+}
+
+}  // namespace tools
+}  // namespace action_flow
