@@ -182,7 +182,7 @@ namespace tools
 void addSampleOptions(std::set<std::string>& valued)
 {
   valued.insert({ "points-topic", "depth-topic", "rgb-topic", "info-topic", "synth", "people", "repetitions", "seed",
-                  "msr-dir" });
+                  "msr-dir", "max-frames" });
 }
 
 std::vector<SampleRef> selectSamples(const Args& args)
@@ -205,6 +205,71 @@ std::string cacheDir(const Args& args)
     return args.get("cache");
   const char* home = std::getenv("HOME");
   return std::string(home ? home : ".") + "/.ros/action_flow/cache";
+}
+
+}  // namespace tools
+}  // namespace action_flow
+
+#include <action_flow/synth/synth.h>
+
+namespace action_flow
+{
+namespace tools
+{
+namespace
+{
+// Frames rendered in-process by the virtual Kinect, one at a time.
+class SynthFrameSource : public FrameSource
+{
+public:
+  explicit SynthFrameSource(const synth::SampleSpec& spec) : renderer_(spec) {}
+  bool next(Cloud& cloud, double& stamp) override
+  {
+    if (next_ >= renderer_.frames())
+      return false;
+    renderer_.render(next_, cloud);
+    stamp = renderer_.stamp(next_++);
+    return true;
+  }
+
+private:
+  synth::SampleRenderer renderer_;
+  int next_ = 0;
+};
+}  // namespace
+
+std::vector<SampleRef> samplesFromSynth(const Args& args)
+{
+  const std::string which = args.get("synth");
+  const auto seed = static_cast<std::uint64_t>(args.number("seed", 1));
+  std::vector<synth::SampleSpec> specs;
+  if (which == "ias")
+    specs = synth::iasLabSamples(static_cast<int>(args.number("people", 12)),
+                                 static_cast<int>(args.number("repetitions", 3)), seed);
+  else if (which == "msr")
+  {
+    if (!args.has("msr-dir"))
+      throw std::invalid_argument("--synth msr needs --msr-dir FOLDER (the MSR Action3D skeleton files)");
+    specs = synth::msrSamples(args.get("msr-dir"), seed);
+  }
+  else
+    throw std::invalid_argument("--synth must be ias or msr, not '" + which + "'");
+  const int max_frames = static_cast<int>(args.number("max-frames", 0));
+  std::vector<SampleRef> out;
+  for (auto spec : specs)
+  {
+    spec.max_frames = max_frames;
+    SampleRef s;
+    s.key = spec.name();
+    s.person = spec.person;
+    s.action = spec.action;
+    s.repetition = spec.repetition;
+    s.fingerprint = "synth:" + std::string(synth::rendererVersion()) + ":" + spec.name() + ":" +
+                    std::to_string(spec.seed) + ":" + std::to_string(max_frames);
+    s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };
+    out.push_back(std::move(s));
+  }
+  return out;
 }
 
 }  // namespace tools

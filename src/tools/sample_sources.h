@@ -47,6 +47,8 @@ namespace tools
 class Args;
 /** Adds the options that choose samples (--index, topic names, --synth ...) to @p valued. */
 void addSampleOptions(std::set<std::string>& valued);
+/** The virtual Kinect's samples (--synth ias|msr, --people, --repetitions, --seed, --msr-dir, --max-frames). */
+std::vector<SampleRef> samplesFromSynth(const Args& args);
 /** The samples the options name. @throws on a bad index or option, naming it. */
 std::vector<SampleRef> selectSamples(const Args& args);
 /** The cache folder the options name (default ~/.ros/action_flow/cache). */
