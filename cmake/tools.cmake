@@ -18,3 +18,12 @@ foreach(tool train evaluate)
   target_link_libraries(${tool} action_flow_tool_support ${catkin_LIBRARIES})
   target_compile_definitions(${tool} PRIVATE ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 endforeach()
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_tools test/eval/test_tools.cpp TIMEOUT 600)
+  target_link_libraries(test_tools action_flow_core gtest_main)
+  target_compile_definitions(test_tools PRIVATE
+    ACTION_FLOW_BIN_DIR="${CATKIN_DEVEL_PREFIX}/lib/action_flow"
+    ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  add_dependencies(test_tools train evaluate synth)
+endif()
