@@ -6,11 +6,13 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/image_encodings.h>
 
 #include <cstring>
+#include <opencv2/imgcodecs.hpp>
 #include <map>
 #include <sys/stat.h>
 
@@ -20,8 +22,9 @@ namespace tools
 {
 namespace
 {
-// Frames of one bag: the organized PointCloud2 topic if the bag has it, else depth + rgb
-// (+ camera_info) with equal stamps made into a cloud.
+// Frames of one bag: the organized PointCloud2 topic if the bag has it, else depth + colour images
+// with equal stamps (raw sensor_msgs/Image, or CompressedImage on <topic>/compressed: PNG depth in
+// millimetres, JPEG colour) and camera_info, made into an organized cloud.
 class BagFrameSource : public FrameSource
 {
 public:
@@ -39,7 +42,8 @@ public:
     use_points_ = probe.size() > 0;
     const std::vector<std::string> wanted =
         use_points_ ? std::vector<std::string>{ topics_.points } :
-                      std::vector<std::string>{ topics_.depth, topics_.rgb, topics_.info };
+                      std::vector<std::string>{ topics_.depth, topics_.rgb, topics_.depth + "/compressed",
+                                                topics_.rgb + "/compressed", topics_.info };
     view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(wanted));
     if (view_->size() == 0)
       throw DatasetError(path + ": bag has neither " + topics_.points + " nor " + topics_.depth + " + " + topics_.rgb);
@@ -61,21 +65,22 @@ public:
         ++it_;
         return true;
       }
+      const bool is_depth = m.getTopic().rfind(topics_.depth, 0) == 0;
       if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
       {
         k_.fx = info->K[0], k_.cx = info->K[2], k_.fy = info->K[4], k_.cy = info->K[5];
         have_info_ = true;
       }
       else if (auto img = m.instantiate<sensor_msgs::Image>())
+        is_depth ? readDepth(*img) : readColour(*img);
+      else if (auto jpg = m.instantiate<sensor_msgs::CompressedImage>())
+        is_depth ? readDepth(*jpg) : readColour(*jpg);
+      if (have_info_ && depth_stamp_ == colour_stamp_ && depth_stamp_ > 0.0)
       {
-        (m.getTopic() == topics_.depth ? depth_ : rgb_) = img;
-      }
-      if (depth_ && rgb_ && have_info_ && depth_->header.stamp == rgb_->header.stamp)
-      {
-        toCloud(cloud);
-        stamp = depth_->header.stamp.toSec();
-        depth_.reset();
-        rgb_.reset();
+        depthToCloud(depth_m_.data(), rgb8_.data(), width_, height_, k_, cloud);
+        stamp = depth_stamp_;
+        depth_stamp_ = -1.0;
+        colour_stamp_ = -2.0;
         ++it_;
         return true;
       }
@@ -84,42 +89,90 @@ public:
   }
 
 private:
-  void toCloud(Cloud& cloud)
+  [[noreturn]] void fail(const std::string& topic, const std::string& what) const
+  {
+    throw DatasetError(path_ + ": topic " + topic + ": " + what);
+  }
+
+  void size(int w, int h, const std::string& topic)
+  {
+    if (w <= 0 || h <= 0 || (width_ > 0 && (w != width_ || h != height_)))
+      fail(topic, "image size " + std::to_string(w) + "x" + std::to_string(h) + " differs from the other stream");
+    width_ = w;
+    height_ = h;
+  }
+
+  void readDepth(const sensor_msgs::Image& img)
   {
     namespace enc = sensor_msgs::image_encodings;
-    const int w = depth_->width, h = depth_->height;
-    if (static_cast<int>(rgb_->width) != w || static_cast<int>(rgb_->height) != h)
-      throw DatasetError(path_ + ": depth and colour images differ in size");
-    depth_m_.resize(static_cast<std::size_t>(w) * h);
-    if (depth_->encoding == enc::TYPE_32FC1)
-      for (int v = 0; v < h; ++v)
-        std::memcpy(&depth_m_[v * w], &depth_->data[v * depth_->step], sizeof(float) * w);
-    else if (depth_->encoding == enc::TYPE_16UC1)
-      for (int v = 0; v < h; ++v)
-        for (int u = 0; u < w; ++u)
+    size(img.width, img.height, topics_.depth);
+    depth_m_.resize(static_cast<std::size_t>(width_) * height_);
+    if (img.encoding == enc::TYPE_32FC1)
+      for (int v = 0; v < height_; ++v)
+        std::memcpy(&depth_m_[v * width_], &img.data[v * img.step], sizeof(float) * width_);
+    else if (img.encoding == enc::TYPE_16UC1)
+      for (int v = 0; v < height_; ++v)
+        for (int u = 0; u < width_; ++u)
         {
           std::uint16_t mm;
-          std::memcpy(&mm, &depth_->data[v * depth_->step + 2 * u], 2);
-          depth_m_[v * w + u] = mm ? mm * 0.001f : 0.0f;
+          std::memcpy(&mm, &img.data[v * img.step + 2 * u], 2);
+          depth_m_[v * width_ + u] = mm * 0.001f;
         }
     else
-      throw DatasetError(path_ + ": topic " + topics_.depth + " has encoding '" + depth_->encoding +
-                         "' (expected 32FC1 or 16UC1)");
-    const bool bgr = rgb_->encoding == enc::BGR8;
-    if (!bgr && rgb_->encoding != enc::RGB8)
-      throw DatasetError(path_ + ": topic " + topics_.rgb + " has encoding '" + rgb_->encoding +
-                         "' (expected rgb8 or bgr8)");
-    rgb8_.resize(static_cast<std::size_t>(3) * w * h);
-    for (int v = 0; v < h; ++v)
-      for (int u = 0; u < w; ++u)
+      fail(topics_.depth, "encoding '" + img.encoding + "' (expected 32FC1 or 16UC1)");
+    depth_stamp_ = img.header.stamp.toSec();
+  }
+
+  void readDepth(const sensor_msgs::CompressedImage& msg)
+  {
+    const cv::Mat png = cv::imdecode(msg.data, cv::IMREAD_UNCHANGED);
+    if (png.empty() || png.type() != CV_16UC1)
+      fail(topics_.depth + "/compressed", "not a 16-bit PNG depth image (format '" + msg.format + "')");
+    size(png.cols, png.rows, topics_.depth);
+    depth_m_.resize(static_cast<std::size_t>(width_) * height_);
+    for (int v = 0; v < height_; ++v)
+      for (int u = 0; u < width_; ++u)
+        depth_m_[v * width_ + u] = png.at<std::uint16_t>(v, u) * 0.001f;
+    depth_stamp_ = msg.header.stamp.toSec();
+  }
+
+  void readColour(const sensor_msgs::Image& img)
+  {
+    namespace enc = sensor_msgs::image_encodings;
+    const bool bgr = img.encoding == enc::BGR8;
+    if (!bgr && img.encoding != enc::RGB8)
+      fail(topics_.rgb, "encoding '" + img.encoding + "' (expected rgb8 or bgr8)");
+    size(img.width, img.height, topics_.rgb);
+    rgb8_.resize(static_cast<std::size_t>(3) * width_ * height_);
+    for (int v = 0; v < height_; ++v)
+      for (int u = 0; u < width_; ++u)
       {
-        const std::uint8_t* p = &rgb_->data[v * rgb_->step + 3 * u];
-        std::uint8_t* q = &rgb8_[3 * (v * w + u)];
+        const std::uint8_t* p = &img.data[v * img.step + 3 * u];
+        std::uint8_t* q = &rgb8_[3 * (v * width_ + u)];
         q[0] = bgr ? p[2] : p[0];
         q[1] = p[1];
         q[2] = bgr ? p[0] : p[2];
       }
-    depthToCloud(depth_m_.data(), rgb8_.data(), w, h, k_, cloud);
+    colour_stamp_ = img.header.stamp.toSec();
+  }
+
+  void readColour(const sensor_msgs::CompressedImage& msg)
+  {
+    const cv::Mat bgr = cv::imdecode(msg.data, cv::IMREAD_COLOR);
+    if (bgr.empty())
+      fail(topics_.rgb + "/compressed", "cannot decode the image (format '" + msg.format + "')");
+    size(bgr.cols, bgr.rows, topics_.rgb);
+    rgb8_.resize(static_cast<std::size_t>(3) * width_ * height_);
+    for (int v = 0; v < height_; ++v)
+      for (int u = 0; u < width_; ++u)
+      {
+        const cv::Vec3b& p = bgr.at<cv::Vec3b>(v, u);
+        std::uint8_t* q = &rgb8_[3 * (v * width_ + u)];
+        q[0] = p[2];
+        q[1] = p[1];
+        q[2] = p[0];
+      }
+    colour_stamp_ = msg.header.stamp.toSec();
   }
 
   std::string path_;
@@ -130,7 +183,8 @@ private:
   bool use_points_ = false;
   bool have_info_ = false;
   Intrinsics k_;
-  sensor_msgs::Image::ConstPtr depth_, rgb_;
+  int width_ = 0, height_ = 0;
+  double depth_stamp_ = -1.0, colour_stamp_ = -2.0;
   std::vector<float> depth_m_;
   std::vector<std::uint8_t> rgb8_;
 };
@@ -238,6 +292,10 @@ private:
 };
 }  // namespace
 
+// Part of every rendered sample's cache key: bump it when the renderer's output changes, so that
+// cached descriptors of the old rendering are not reused.
+constexpr const char* kRendererRevision = "synth-r1";
+
 std::vector<SampleRef> samplesFromSynth(const Args& args)
 {
   const std::string which = args.get("synth");
@@ -264,7 +322,7 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
     s.person = spec.person;
     s.action = spec.action;
     s.repetition = spec.repetition;
-    s.fingerprint = "synth:" + std::string(synth::rendererVersion()) + ":" + spec.name() + ":" +
+    s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" +
                     std::to_string(spec.seed) + ":" + std::to_string(max_frames);
     s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };
     out.push_back(std::move(s));

@@ -3,6 +3,7 @@
 
 #include <action_flow/action_model.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -13,15 +14,15 @@ namespace
 const std::string kBin = ACTION_FLOW_BIN_DIR;  // where train, evaluate and synth are built
 const std::string kScripts = ACTION_FLOW_SOURCE_DIR "/scripts";
 
-struct Run
+struct Result
 {
   int status;
   std::string output;
 };
 
-Run run(const std::string& cmd)
+Result run(const std::string& cmd)
 {
-  Run r{ 0, "" };
+  Result r{ 0, "" };
   FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
   char buf[4096];
   while (p && std::fgets(buf, sizeof(buf), p))
@@ -37,18 +38,28 @@ std::string tempDir(const std::string& name)
   return d;
 }
 
-// A tiny dataset: 3 people x 3 actions x 1 repetition, 45 frames each, rendered to bags.
+// A tiny dataset: 3 people x 3 actions x 1 repetition, 40 frames each, rendered to bags by synth
+// (one run per action), with one index over all of them.
 const std::string& tinyDataset()
 {
   static std::string index;
-  if (index.empty())
+  if (!index.empty())
+    return index;
+  const std::string d = tempDir("data");
+  std::string csv = "path,person,action,repetition,frames\n";
+  for (const std::string action : { "wave", "kick", "sit_down" })
   {
-    const std::string d = tempDir("data");
-    const Run r = run(kBin + "/synth --output '" + d + "' --people 3 --repetitions 1 --actions wave,kick,sit_down "
-                      "--max-frames 45 --jobs 2 --no-progress");
+    const Result r = run(kBin + "/synth --out '" + d + "/" + action + "' --people 3 --repetitions 1 --action " + action +
+                      " --frames 40 --jobs 2 --quiet");
     EXPECT_EQ(r.status, 0) << r.output;
-    index = d + "/index.csv";
+    std::ifstream part(d + "/" + action + "/ias/index.csv");
+    std::string line;
+    std::getline(part, line);  // header
+    while (std::getline(part, line))
+      csv += action + "/ias/" + line + "\n";
   }
+  std::ofstream(d + "/index.csv") << csv;
+  index = d + "/index.csv";
   return index;
 }
 }  // namespace
@@ -59,7 +70,7 @@ TEST(Tools, TinyDatasetTrainsAndEvaluatesEndToEnd)
   const std::string out = tempDir("report"), cache = tempDir("cache");
   const std::string model = out + "/tiny.model";
 
-  Run r = run(kBin + "/train --index '" + index + "' --output '" + model + "' --frames 10 --cache '" + cache + "'");
+  Result r = run(kBin + "/train --index '" + index + "' --output '" + model + "' --frames 10 --cache '" + cache + "'");
   ASSERT_EQ(r.status, 0) << r.output;
   const action_flow::ActionModel m = action_flow::ActionModel::load(model);
   EXPECT_EQ(m.labels.size(), 9u);
@@ -82,10 +93,10 @@ TEST(Tools, MalformedIndexGivesOneLineNamingTheLine)
 {
   const std::string d = tempDir("badindex");
   std::ofstream(d + "/index.csv") << "path,person,action,repetition,frames\nnope.bag,p01,wave,1,30\n";
-  const Run r = run(kBin + "/train --index '" + d + "/index.csv' --output '" + d + "/m.model'");
+  const Result r = run(kBin + "/train --index '" + d + "/index.csv' --output '" + d + "/m.model'");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find(d + "/index.csv:2: sample file"), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
-  const Run bad_option = run(kBin + "/evaluate --output x --index i --protocol nonsense");
+  const Result bad_option = run(kBin + "/evaluate --output x --index i --protocol nonsense");
   EXPECT_NE(bad_option.status, 0);
 }
