@@ -1,0 +1,30 @@
+# Offline tools: train and evaluate, and the evaluation library they share.
+add_library(action_flow_eval src/eval/evaluation.cpp src/eval/depth_cloud.cpp)
+target_link_libraries(action_flow_eval action_flow_core)
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_evaluation test/eval/test_evaluation.cpp)
+  target_link_libraries(test_evaluation action_flow_eval gtest_main)
+endif()
+
+# The tools run the people tracker and render with the virtual Kinect.
+add_library(action_flow_tool_support
+  src/eval/feature_extractor.cpp src/tools/sample_sources.cpp src/tools/extraction.cpp)
+target_include_directories(action_flow_tool_support SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+target_link_libraries(action_flow_tool_support action_flow_eval action_flow_tracker action_flow_synth
+  ${catkin_LIBRARIES} ${OpenCV_LIBRARIES} pthread)
+
+foreach(tool train evaluate)
+  add_executable(${tool} src/tools/${tool}.cpp)
+  target_link_libraries(${tool} action_flow_tool_support ${catkin_LIBRARIES})
+  target_compile_definitions(${tool} PRIVATE ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+endforeach()
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_tools test/eval/test_tools.cpp TIMEOUT 600)
+  target_link_libraries(test_tools action_flow_core gtest_main)
+  target_compile_definitions(test_tools PRIVATE
+    ACTION_FLOW_BIN_DIR="${CATKIN_DEVEL_PREFIX}/lib/action_flow"
+    ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  add_dependencies(test_tools train evaluate synth)
+endif()

@@ -1,0 +1,130 @@
+/**
+ * @file evaluation.h
+ * @brief What training and evaluation need besides the method itself: the dataset index, the
+ *        protocols' train/test splits, the per-sample frame descriptor cache, and accuracy
+ *        figures. ROS-free.
+ */
+#pragma once
+
+#include <action_flow/action_model.h>
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+/** @brief A dataset index or cache file is malformed; the message names the file and line. */
+class DatasetError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/** @brief One line of a dataset index (CSV with header: path,person,action,repetition,frames). */
+struct IndexEntry
+{
+  std::string path;    ///< the sample's bag, resolved against the index's folder
+  std::string person;
+  std::string action;
+  int repetition = 0;
+  int frames = 0;
+  int line = 0;        ///< line in the index file, for messages
+};
+
+/**
+ * @brief Reads a dataset index.
+ * @param known_actions when not empty, an action outside it is an error
+ * @throws DatasetError naming the file and line: missing or unreadable index, missing header
+ *         column, empty index, wrong field count, empty or non-numeric field, unknown action,
+ *         missing sample file, or a duplicate sample
+ */
+std::vector<IndexEntry> readIndex(const std::string& path, const std::vector<std::string>& known_actions = {});
+
+/** @brief A train/test split: indices into the sample list. */
+struct Fold
+{
+  std::string name;  ///< e.g. "test person p03"
+  std::vector<std::size_t> train, test;
+};
+
+/** @brief One fold per person: that person's samples are the test set, everyone else's the training set. */
+std::vector<Fold> leaveOnePersonOut(const std::vector<std::string>& persons);
+
+/**
+ * @brief One fold: samples of @p train_persons train, all others test (MSR Action3D's
+ *        cross-subject protocol trains on subjects 1,3,5,7,9).
+ */
+Fold crossSubject(const std::vector<std::string>& persons, const std::vector<std::string>& train_persons);
+
+/** @brief Frame descriptors of one sample (one row per frame with flow) and their stamps. */
+struct SampleFrames
+{
+  Eigen::MatrixXf descriptors;
+  std::vector<double> stamps;
+};
+
+/** @brief Writes @p frames to @p path atomically (temporary name, then rename). */
+void saveSampleFrames(const std::string& path, const SampleFrames& frames);
+/** @brief Reads a cache file; returns false if it is absent, @throws DatasetError if it is damaged. */
+bool loadSampleFrames(const std::string& path, SampleFrames& frames);
+
+/** @brief Confusion matrix and the figures derived from it. */
+struct Confusion
+{
+  std::vector<std::string> labels;              ///< class names, rows = truth, columns = prediction
+  std::vector<std::vector<int>> counts;
+
+  explicit Confusion(std::vector<std::string> labels);
+  /** @throws std::invalid_argument for a label not in labels */
+  void add(const std::string& truth, const std::string& predicted);
+  int total() const;
+  double accuracy() const;
+  /** @brief Per class; 0 where the class was never predicted (precision) or never present (recall). */
+  std::vector<double> precision() const;
+  std::vector<double> recall() const;
+  /** @brief Samples of each class (row sums). */
+  std::vector<int> support() const;
+};
+
+/** @brief A sample as the experiments see it: who, what, and its cached frame descriptors. */
+struct LabelledSample
+{
+  std::string person;
+  std::string action;
+  const SampleFrames* frames = nullptr;
+};
+
+/**
+ * @brief Builds a model from the samples at @p rows: PCA fitted on their frame descriptors when
+ *        params.use_pca (or @p fitted when given), then one sequence descriptor per sample. A sample without any frame
+ *        descriptor (no flow was ever found) counts as one still frame: all zeros.
+ * @throws std::invalid_argument if @p rows is empty
+ */
+ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
+                       const RecognitionParams& params, const Pca* fitted = nullptr);
+
+/** @brief The PCA basis trainModel fits on the frame descriptors of @p rows. */
+Pca fitPca(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows, double variance);
+
+/** @brief The sequence descriptor of one sample under @p model (zeros for a sample without frames). */
+Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& model);
+
+/**
+ * @brief Trains on each fold's training samples and classifies its test samples.
+ * @param fold_accuracy if given, receives each fold's accuracy
+ * @param fold_pcas if given and params.use_pca: the fold's PCA bases, fitted on the first call
+ *        (empty vector) and reused after, since the basis does not depend on F
+ * @throws std::invalid_argument if a fold's training set contains a person of its test set
+ */
+Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
+                   const RecognitionParams& params, std::vector<double>* fold_accuracy = nullptr,
+                   std::vector<Pca>* fold_pcas = nullptr);
+
+/** @brief Sorted, de-duplicated copy. */
+std::vector<std::string> uniqueSorted(std::vector<std::string> v);
+
+}  // namespace action_flow

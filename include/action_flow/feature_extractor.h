@@ -1,0 +1,37 @@
+/**
+ * @file feature_extractor.h
+ * @brief Turns one recorded or rendered sample into frame descriptors the way the live pipeline
+ *        does: people tracker, then per track flow and grid descriptor (PersonPipeline). ROS-free;
+ *        the tools give it frames from bags or from the virtual Kinect.
+ */
+#pragma once
+
+#include <action_flow/action_model.h>
+#include <action_flow/evaluation.h>
+#include <action_flow/people_tracker.h>
+
+#include <vector>
+
+namespace action_flow
+{
+/** @brief The frames of one sample, in time order. */
+class FrameSource
+{
+public:
+  virtual ~FrameSource() = default;
+  /** @brief The next frame; false at the end. */
+  virtual bool next(Cloud& cloud, double& stamp) = 0;
+};
+
+/**
+ * @brief Runs the tracker once over @p source and, for each variant, the person pipeline of every
+ *        track; returns, per variant, the frame descriptors of the sample's performer: the track
+ *        seen in the most frames (a dataset sample shows one person).
+ * @param variants parameter sets to extract at once (e.g. SUMFLOW and MEANFLOW); each variant's
+ *        voxel_size must equal the tracker's person_voxel_size
+ * @throws std::invalid_argument on mismatched voxel sizes
+ */
+std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams& tracker,
+                                        const std::vector<RecognitionParams>& variants);
+
+}  // namespace action_flow

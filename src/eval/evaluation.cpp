@@ -1,0 +1,380 @@
+#include <action_flow/evaluation.h>
+
+#include <action_flow/sequence_descriptor.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <sys/stat.h>
+
+namespace action_flow
+{
+namespace
+{
+std::string trim(const std::string& s)
+{
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos)
+    return "";
+  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
+}
+
+std::vector<std::string> splitCsv(const std::string& line)
+{
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string field;
+  while (std::getline(ss, field, ','))
+    out.push_back(trim(field));
+  if (!line.empty() && line.back() == ',')
+    out.push_back("");
+  return out;
+}
+
+bool fileExists(const std::string& path)
+{
+  struct stat st;
+  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+std::string folderOf(const std::string& path)
+{
+  const auto slash = path.find_last_of('/');
+  return slash == std::string::npos ? "" : path.substr(0, slash + 1);
+}
+
+int toInt(const std::string& s, const std::string& where, const char* column)
+{
+  try
+  {
+    std::size_t used = 0;
+    const int v = std::stoi(s, &used);
+    if (used == s.size() && v >= 0)
+      return v;
+  }
+  catch (const std::exception&)
+  {
+  }
+  throw DatasetError(where + ": column '" + column + "' must be a non-negative integer, got '" + s + "'");
+}
+}  // namespace
+
+std::vector<IndexEntry> readIndex(const std::string& path, const std::vector<std::string>& known_actions)
+{
+  std::ifstream f(path);
+  if (!f)
+    throw DatasetError(path + ": cannot open dataset index");
+  std::string line;
+  int n = 0;
+  std::vector<std::string> header;
+  while (header.empty() && std::getline(f, line))
+  {
+    ++n;
+    if (!trim(line).empty() && trim(line)[0] != '#')
+      header = splitCsv(line);
+  }
+  if (header.empty())
+    throw DatasetError(path + ": empty dataset index (no header line)");
+  const char* columns[] = { "path", "person", "action", "repetition", "frames" };
+  int col[5];
+  for (int c = 0; c < 5; ++c)
+  {
+    const auto it = std::find(header.begin(), header.end(), columns[c]);
+    if (it == header.end())
+      throw DatasetError(path + ":" + std::to_string(n) + ": header lacks column '" + columns[c] + "'");
+    col[c] = static_cast<int>(it - header.begin());
+  }
+  std::vector<IndexEntry> out;
+  std::set<std::string> seen;
+  const std::string base = folderOf(path);
+  while (std::getline(f, line))
+  {
+    ++n;
+    if (trim(line).empty() || trim(line)[0] == '#')
+      continue;
+    const std::string where = path + ":" + std::to_string(n);
+    const auto fields = splitCsv(line);
+    if (fields.size() != header.size())
+      throw DatasetError(where + ": expected " + std::to_string(header.size()) + " fields, found " +
+                         std::to_string(fields.size()));
+    for (int c = 0; c < 3; ++c)
+      if (fields[col[c]].empty())
+        throw DatasetError(where + ": column '" + columns[c] + "' is empty");
+    IndexEntry e;
+    e.line = n;
+    e.path = fields[col[0]][0] == '/' ? fields[col[0]] : base + fields[col[0]];
+    e.person = fields[col[1]];
+    e.action = fields[col[2]];
+    e.repetition = toInt(fields[col[3]], where, "repetition");
+    e.frames = toInt(fields[col[4]], where, "frames");
+    if (!known_actions.empty() && std::find(known_actions.begin(), known_actions.end(), e.action) == known_actions.end())
+      throw DatasetError(where + ": unknown action '" + e.action + "'");
+    if (!fileExists(e.path))
+      throw DatasetError(where + ": sample file '" + e.path + "' does not exist");
+    if (!seen.insert(e.person + "/" + e.action + "/" + std::to_string(e.repetition)).second)
+      throw DatasetError(where + ": duplicate sample (person " + e.person + ", action " + e.action + ", repetition " +
+                         std::to_string(e.repetition) + ")");
+    out.push_back(e);
+  }
+  if (out.empty())
+    throw DatasetError(path + ": the dataset index lists no samples");
+  return out;
+}
+
+std::vector<std::string> uniqueSorted(std::vector<std::string> v)
+{
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
+}
+
+std::vector<Fold> leaveOnePersonOut(const std::vector<std::string>& persons)
+{
+  std::vector<Fold> folds;
+  for (const auto& p : uniqueSorted(persons))
+  {
+    Fold f;
+    f.name = "test person " + p;
+    for (std::size_t i = 0; i < persons.size(); ++i)
+      (persons[i] == p ? f.test : f.train).push_back(i);
+    folds.push_back(std::move(f));
+  }
+  return folds;
+}
+
+Fold crossSubject(const std::vector<std::string>& persons, const std::vector<std::string>& train_persons)
+{
+  Fold f;
+  f.name = "cross-subject";
+  for (std::size_t i = 0; i < persons.size(); ++i)
+  {
+    const bool train = std::find(train_persons.begin(), train_persons.end(), persons[i]) != train_persons.end();
+    (train ? f.train : f.test).push_back(i);
+  }
+  return f;
+}
+
+namespace
+{
+constexpr char kCacheMagic[8] = { 'A', 'F', 'F', 'R', 'A', 'M', 'E', '1' };
+}
+
+void saveSampleFrames(const std::string& path, const SampleFrames& frames)
+{
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f)
+      throw DatasetError(path + ": cannot write cache file");
+    const std::uint64_t rows = frames.descriptors.rows(), cols = frames.descriptors.cols();
+    f.write(kCacheMagic, sizeof(kCacheMagic));
+    f.write(reinterpret_cast<const char*>(&rows), sizeof(rows));
+    f.write(reinterpret_cast<const char*>(&cols), sizeof(cols));
+    f.write(reinterpret_cast<const char*>(frames.stamps.data()), sizeof(double) * rows);
+    f.write(reinterpret_cast<const char*>(frames.descriptors.data()), sizeof(float) * rows * cols);
+    if (!f.flush())
+      throw DatasetError(path + ": write failed");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw DatasetError(path + ": cannot rename the temporary cache file into place");
+}
+
+bool loadSampleFrames(const std::string& path, SampleFrames& frames)
+{
+  std::ifstream f(path, std::ios::binary);
+  if (!f)
+    return false;
+  char magic[8];
+  std::uint64_t rows = 0, cols = 0;
+  f.read(magic, sizeof(magic));
+  f.read(reinterpret_cast<char*>(&rows), sizeof(rows));
+  f.read(reinterpret_cast<char*>(&cols), sizeof(cols));
+  if (!f || std::memcmp(magic, kCacheMagic, sizeof(magic)) != 0 || cols > 100000 || rows > 1000000)
+    throw DatasetError(path + ": damaged cache file (delete it to recompute)");
+  frames.stamps.resize(rows);
+  frames.descriptors.resize(rows, cols);
+  f.read(reinterpret_cast<char*>(frames.stamps.data()), sizeof(double) * rows);
+  f.read(reinterpret_cast<char*>(frames.descriptors.data()), sizeof(float) * rows * cols);
+  if (!f || f.peek() != EOF)
+    throw DatasetError(path + ": damaged cache file (delete it to recompute)");
+  return true;
+}
+
+Confusion::Confusion(std::vector<std::string> l)
+  : labels(std::move(l)), counts(labels.size(), std::vector<int>(labels.size(), 0))
+{
+}
+
+void Confusion::add(const std::string& truth, const std::string& predicted)
+{
+  const auto t = std::find(labels.begin(), labels.end(), truth);
+  const auto p = std::find(labels.begin(), labels.end(), predicted);
+  if (t == labels.end() || p == labels.end())
+    throw std::invalid_argument("Confusion: unknown label '" + (t == labels.end() ? truth : predicted) + "'");
+  ++counts[t - labels.begin()][p - labels.begin()];
+}
+
+int Confusion::total() const
+{
+  int n = 0;
+  for (const auto& row : counts)
+    for (int c : row)
+      n += c;
+  return n;
+}
+
+double Confusion::accuracy() const
+{
+  int right = 0;
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    right += counts[i][i];
+  return total() > 0 ? static_cast<double>(right) / total() : 0.0;
+}
+
+std::vector<int> Confusion::support() const
+{
+  std::vector<int> s(labels.size(), 0);
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    for (int c : counts[i])
+      s[i] += c;
+  return s;
+}
+
+std::vector<double> Confusion::recall() const
+{
+  const auto s = support();
+  std::vector<double> r(labels.size(), 0.0);
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    r[i] = s[i] > 0 ? static_cast<double>(counts[i][i]) / s[i] : 0.0;
+  return r;
+}
+
+std::vector<double> Confusion::precision() const
+{
+  std::vector<double> p(labels.size(), 0.0);
+  for (std::size_t j = 0; j < labels.size(); ++j)
+  {
+    int predicted = 0;
+    for (std::size_t i = 0; i < labels.size(); ++i)
+      predicted += counts[i][j];
+    p[j] = predicted > 0 ? static_cast<double>(counts[j][j]) / predicted : 0.0;
+  }
+  return p;
+}
+
+namespace
+{
+// Frame descriptors of a sample as a list; one all-zero frame when it has none (a still person).
+void framesOf(const LabelledSample& s, int length, std::vector<Eigen::VectorXf>& out, std::vector<double>& stamps)
+{
+  out.clear();
+  stamps.clear();
+  if (s.frames && s.frames->descriptors.rows() > 0)
+  {
+    for (Eigen::Index r = 0; r < s.frames->descriptors.rows(); ++r)
+      out.push_back(s.frames->descriptors.row(r).transpose());
+    stamps = s.frames->stamps;
+  }
+  else
+  {
+    out.push_back(Eigen::VectorXf::Zero(length));
+    stamps.push_back(0.0);
+  }
+}
+}  // namespace
+
+Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& model)
+{
+  std::vector<Eigen::VectorXf> frames;
+  std::vector<double> stamps;
+  framesOf(sample, 3 * model.params.grid.cells(), frames, stamps);
+  return SequenceDescriptor(model.params.frames).compute(frames, stamps, model.pca);
+}
+
+Pca fitPca(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows, double variance)
+{
+  Eigen::Index total = 0, length = 0;
+  for (std::size_t r : rows)
+    if (samples[r].frames)
+    {
+      total += samples[r].frames->descriptors.rows();
+      length = std::max(length, samples[r].frames->descriptors.cols());
+    }
+  if (total < 2)
+    throw std::invalid_argument("fitPca: fewer than 2 frame descriptors with flow in the training set");
+  Eigen::MatrixXf all(total, length);
+  Eigen::Index at = 0;
+  for (std::size_t r : rows)
+    if (samples[r].frames && samples[r].frames->descriptors.rows() > 0)
+    {
+      all.middleRows(at, samples[r].frames->descriptors.rows()) = samples[r].frames->descriptors;
+      at += samples[r].frames->descriptors.rows();
+    }
+  return Pca::fit(all, variance);
+}
+
+ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
+                       const RecognitionParams& params, const Pca* fitted)
+{
+  if (rows.empty())
+    throw std::invalid_argument("trainModel: no training samples");
+  ActionModel model;
+  model.params = params;
+  if (params.use_pca)
+    model.pca = fitted ? *fitted : fitPca(samples, rows, params.pca_variance);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+  {
+    const Eigen::VectorXf d = sequenceOf(samples[rows[i]], model);
+    if (i == 0)
+      model.descriptors.resize(static_cast<Eigen::Index>(rows.size()), d.size());
+    model.descriptors.row(static_cast<Eigen::Index>(i)) = d.transpose();
+    model.labels.push_back(samples[rows[i]].action);
+    model.persons.push_back(samples[rows[i]].person);
+  }
+  return model;
+}
+
+Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
+                   const RecognitionParams& params, std::vector<double>* fold_accuracy, std::vector<Pca>* fold_pcas)
+{
+  std::vector<std::string> actions;
+  for (const auto& s : samples)
+    actions.push_back(s.action);
+  Confusion all(uniqueSorted(actions));
+  const bool reuse = params.use_pca && fold_pcas;
+  if (reuse && fold_pcas->size() != folds.size())
+  {
+    fold_pcas->clear();
+    for (const auto& fold : folds)
+      fold_pcas->push_back(fold.test.empty() ? Pca() : fitPca(samples, fold.train, params.pca_variance));
+  }
+  for (std::size_t f = 0; f < folds.size(); ++f)
+  {
+    const Fold& fold = folds[f];
+    for (std::size_t t : fold.test)
+      for (std::size_t r : fold.train)
+        if (samples[t].person == samples[r].person)
+          throw std::invalid_argument("runFolds: fold '" + fold.name + "' trains on person " + samples[r].person +
+                                      " whom it tests");
+    if (fold.test.empty())
+      continue;
+    const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr);
+    const ActionClassifier classifier = model.classifier();
+    Confusion mine(all.labels);
+    for (std::size_t t : fold.test)
+    {
+      const std::string predicted = classifier.classify(sequenceOf(samples[t], model)).label;
+      all.add(samples[t].action, predicted);
+      mine.add(samples[t].action, predicted);
+    }
+    if (fold_accuracy)
+      fold_accuracy->push_back(mine.accuracy());
+  }
+  return all;
+}
+
+}  // namespace action_flow

@@ -1,0 +1,62 @@
+#include <action_flow/feature_extractor.h>
+
+#include <action_flow/person_pipeline.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+namespace action_flow
+{
+std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams& tracker_params,
+                                        const std::vector<RecognitionParams>& variants)
+{
+  for (const auto& v : variants)
+    if (std::fabs(v.voxel_size - tracker_params.person_voxel_size) > 1e-6f)
+      throw std::invalid_argument("extractSample: the flow's voxel size differs from the tracker's person clouds");
+  PeopleTracker tracker(tracker_params);
+  // Per track id: one pipeline per variant, and how many frames the track was seen in.
+  struct Track
+  {
+    std::vector<std::unique_ptr<PersonPipeline>> pipelines;
+    int seen = 0;
+  };
+  std::map<std::uint32_t, Track> tracks;
+  Cloud cloud;
+  double stamp = 0.0;
+  while (source.next(cloud, stamp))
+  {
+    const TrackerResult result = tracker.update(cloud, stamp);
+    if (result.reset)
+      tracks.clear();
+    for (const auto& person : result.people)
+    {
+      Track& t = tracks[person.id];
+      if (t.pipelines.empty())
+        for (const auto& v : variants)
+          t.pipelines.push_back(std::make_unique<PersonPipeline>(v));
+      ++t.seen;
+      for (auto& p : t.pipelines)
+        p->add(*person.cloud, stamp, person.frame);
+    }
+  }
+  std::vector<SampleFrames> out(variants.size());
+  const Track* best = nullptr;
+  for (const auto& kv : tracks)
+    if (!best || kv.second.seen > best->seen)
+      best = &kv.second;
+  if (!best)
+    return out;
+  for (std::size_t v = 0; v < variants.size(); ++v)
+  {
+    const PersonPipeline& p = *best->pipelines[v];
+    out[v].stamps = p.stamps();
+    out[v].descriptors.resize(static_cast<Eigen::Index>(p.descriptors().size()), 3 * variants[v].grid.cells());
+    for (std::size_t r = 0; r < p.descriptors().size(); ++r)
+      out[v].descriptors.row(static_cast<Eigen::Index>(r)) = p.descriptors()[r].transpose();
+  }
+  return out;
+}
+
+}  // namespace action_flow

@@ -1,0 +1,91 @@
+// Command-line handling shared by the offline tools: "--name value" and "--flag" options, and the
+// method's parameters as options, so train and evaluate agree on them.
+#pragma once
+
+#include <action_flow/action_model.h>
+
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+namespace action_flow
+{
+namespace tools
+{
+class Args
+{
+public:
+  /** @throws std::invalid_argument on an option not in @p known (names without "--"). */
+  Args(int argc, char** argv, const std::set<std::string>& flags, const std::set<std::string>& valued)
+  {
+    for (int i = 1; i < argc; ++i)
+    {
+      std::string a = argv[i];
+      if (a.rfind("--", 0) != 0)
+        throw std::invalid_argument("unexpected argument '" + a + "'");
+      a = a.substr(2);
+      if (flags.count(a))
+        values_[a] = "1";
+      else if (valued.count(a))
+      {
+        if (i + 1 >= argc)
+          throw std::invalid_argument("option --" + a + " needs a value");
+        values_[a] = argv[++i];
+      }
+      else
+        throw std::invalid_argument("unknown option --" + a);
+    }
+  }
+  bool has(const std::string& k) const { return values_.count(k) > 0; }
+  std::string get(const std::string& k, const std::string& def = "") const
+  {
+    auto it = values_.find(k);
+    return it == values_.end() ? def : it->second;
+  }
+  double number(const std::string& k, double def) const
+  {
+    if (!has(k))
+      return def;
+    try
+    {
+      std::size_t used = 0;
+      const double v = std::stod(get(k), &used);
+      if (used == get(k).size())
+        return v;
+    }
+    catch (const std::exception&)
+    {
+    }
+    throw std::invalid_argument("option --" + k + " needs a number, got '" + get(k) + "'");
+  }
+
+private:
+  std::map<std::string, std::string> values_;
+};
+
+/** Options naming the method's parameters. */
+inline const std::set<std::string>& methodOptions()
+{
+  static const std::set<std::string> o = { "descriptor", "frames", "pca-variance", "neighbours", "k" };
+  return o;
+}
+
+/** The method's parameters from the options (defaults: the paper's). */
+inline RecognitionParams methodParams(const Args& a)
+{
+  RecognitionParams p;
+  p.grid.aggregation = aggregationFromString(a.get("descriptor", "sumflow"));
+  p.frames = static_cast<int>(a.number("frames", p.frames));
+  p.use_pca = a.has("pca");
+  p.pca_variance = a.number("pca-variance", p.pca_variance);
+  p.neighbours = static_cast<int>(a.number("neighbours", p.neighbours));
+  p.flow.k = static_cast<int>(a.number("k", p.flow.k));
+  p.flow.reject_outliers = !a.has("no-outlier-rejection");
+  if (p.frames < 1 || p.neighbours < 1 || p.flow.k < 1 || !(p.pca_variance > 0 && p.pca_variance <= 1))
+    throw std::invalid_argument("--frames, --neighbours and --k must be >= 1 and --pca-variance in (0,1]");
+  return p;
+}
+
+}  // namespace tools
+}  // namespace action_flow

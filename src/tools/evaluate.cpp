@@ -1,0 +1,240 @@
+// evaluate: runs a protocol (leave-one-person-out, or MSR Action3D's cross-subject) over the
+// paper's variants and writes a report folder: report.json, confusion matrices (CSV and PNG), the
+// accuracy against frames per sequence (Figure 8 of the paper) and an ablation table.
+#include "cli.h"
+#include "extraction.h"
+#include "sample_sources.h"
+
+#include <ros/package.h>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sys/stat.h>
+
+using namespace action_flow;
+using namespace action_flow::tools;
+using json = nlohmann::json;
+
+namespace
+{
+const char* kUsage =
+    "usage: evaluate --output DIR (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
+    "  --protocol lopo|cross-subject   leave-one-person-out (default) or train on --train-persons\n"
+    "  --train-persons a,b,...         cross-subject training people (default s01,s03,s05,s07,s09)\n"
+    "  --actions a,b,...               evaluate on these actions only (e.g. an MSR subset)\n"
+    "  --variants v1,v2,...            of meanflow, sumflow_raw, sumflow, sumflow_pca (default: all)\n"
+    "  --frames F                      frames per sequence (default 30)\n"
+    "  --sweep N                       accuracy for 1..N frames, with and without PCA (default 40; 0 = none)\n"
+    "  --jobs N, --cache DIR           as for train\n";
+
+struct Variant
+{
+  std::string name, title;
+  RecognitionParams params;
+  std::size_t extraction;  // which extracted descriptor set it reads
+};
+
+void writeAtomically(const std::string& path, const std::string& text)
+{
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    f << text;
+    if (!f.flush())
+      throw std::runtime_error(path + ": cannot write");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error(path + ": cannot rename the temporary file into place");
+}
+
+json confusionJson(const Confusion& c)
+{
+  json per_class = json::object();
+  const auto p = c.precision(), r = c.recall();
+  const auto s = c.support();
+  for (std::size_t i = 0; i < c.labels.size(); ++i)
+    per_class[c.labels[i]] = { { "precision", p[i] }, { "recall", r[i] }, { "support", s[i] } };
+  return { { "labels", c.labels }, { "matrix", c.counts }, { "per_class", per_class } };
+}
+
+std::string confusionCsv(const Confusion& c)
+{
+  std::string out = "truth\\predicted";
+  for (const auto& l : c.labels)
+    out += "," + l;
+  out += "\n";
+  for (std::size_t i = 0; i < c.labels.size(); ++i)
+  {
+    out += c.labels[i];
+    for (int n : c.counts[i])
+      out += "," + std::to_string(n);
+    out += "\n";
+  }
+  return out;
+}
+
+std::string plotScript()
+{
+  const std::string pkg = ros::package::getPath("action_flow");
+  return (pkg.empty() ? std::string(ACTION_FLOW_SOURCE_DIR) : pkg) + "/scripts/plot_report.py";
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  try
+  {
+    std::set<std::string> valued = { "output", "index", "jobs", "cache", "protocol", "train-persons", "actions",
+                                     "variants", "sweep" };
+    valued.insert(methodOptions().begin(), methodOptions().end());
+    addSampleOptions(valued);
+    const Args args(argc, argv, { "help", "no-plots" }, valued);
+    if (args.has("help") || !args.has("output"))
+    {
+      std::fputs(kUsage, args.has("help") ? stdout : stderr);
+      return args.has("help") ? 0 : 2;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const RecognitionParams base = methodParams(args);
+    const TrackerParams tracker;
+    std::vector<SampleRef> samples = selectSamples(args);
+    if (args.has("actions"))
+    {
+      const auto keep = splitList(args.get("actions"));
+      std::vector<SampleRef> kept;
+      for (auto& s : samples)
+        if (std::find(keep.begin(), keep.end(), s.action) != keep.end())
+          kept.push_back(std::move(s));
+      samples = std::move(kept);
+    }
+    if (samples.empty())
+      throw std::invalid_argument("no samples to evaluate");
+
+    // The paper's variants (Figure 7): three sets of frame descriptors cover all four.
+    RecognitionParams sum = base, mean = base, raw = base;
+    sum.grid.aggregation = raw.grid.aggregation = FlowAggregation::Sum;
+    mean.grid.aggregation = FlowAggregation::Mean;
+    sum.use_pca = mean.use_pca = raw.use_pca = false;
+    raw.flow.reject_outliers = false;
+    RecognitionParams pca = sum;
+    pca.use_pca = true;
+    const std::vector<RecognitionParams> extractions = { sum, mean, raw };
+    std::vector<Variant> all = { { "meanflow", "MEANFLOW", mean, 1 },
+                                 { "sumflow_raw", "SUMFLOW without outlier rejection", raw, 2 },
+                                 { "sumflow", "SUMFLOW", sum, 0 },
+                                 { "sumflow_pca", "SUMFLOW with PCA", pca, 0 } };
+    std::vector<Variant> variants;
+    const auto wanted = splitList(args.get("variants", "meanflow,sumflow_raw,sumflow,sumflow_pca"));
+    for (const auto& w : wanted)
+    {
+      const auto it = std::find_if(all.begin(), all.end(), [&](const Variant& v) { return v.name == w; });
+      if (it == all.end())
+        throw std::invalid_argument("unknown variant '" + w + "'");
+      variants.push_back(*it);
+    }
+
+    installInterruptHandler();
+    std::vector<std::string> persons;
+    for (const auto& s : samples)
+      persons.push_back(s.person);
+    const std::string protocol = args.get("protocol", "lopo");
+    std::vector<Fold> folds;
+    if (protocol == "lopo")
+      folds = leaveOnePersonOut(persons);
+    else if (protocol == "cross-subject")
+      folds = { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
+    else
+      throw std::invalid_argument("unknown protocol '" + protocol + "' (lopo or cross-subject)");
+    std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", samples.size(),
+                 uniqueSorted(persons).size(), folds.size(), protocol.c_str());
+
+    const auto frames = extractAll(samples, extractions, tracker, cacheDir(args), static_cast<int>(args.number("jobs", 2)));
+    const auto t1 = std::chrono::steady_clock::now();
+
+    const auto labelled = [&](std::size_t extraction) {
+      std::vector<LabelledSample> out;
+      for (std::size_t i = 0; i < samples.size(); ++i)
+        out.push_back({ samples[i].person, samples[i].action, &frames[extraction][i] });
+      return out;
+    };
+    std::size_t no_flow = 0;
+    for (const auto& f : frames[0])
+      no_flow += f.descriptors.rows() == 0;
+
+    const std::string dir = args.get("output");
+    ::mkdir(dir.c_str(), 0755);
+    json report;
+    report["protocol"] = protocol;
+    report["folds"] = folds.size();
+    report["samples"] = { { "total", samples.size() },
+                          { "people", uniqueSorted(persons).size() },
+                          { "without_flow", no_flow },
+                          { "train_per_fold", folds.front().train.size() },
+                          { "test_per_fold", folds.front().test.size() } };
+    report["frames"] = base.frames;
+    json results = json::array();
+    for (const auto& v : variants)
+    {
+      std::vector<double> fold_acc;
+      const Confusion c = runFolds(labelled(v.extraction), folds, v.params, &fold_acc);
+      double mean_fold = 0.0;
+      for (double a : fold_acc)
+        mean_fold += a / fold_acc.size();
+      results.push_back({ { "variant", v.name },
+                          { "title", v.title },
+                          { "accuracy", c.accuracy() },
+                          { "mean_fold_accuracy", mean_fold },
+                          { "fold_accuracy", fold_acc },
+                          { "confusion", confusionJson(c) },
+                          { "pca_components", nullptr } });
+      if (v.params.use_pca)
+        results.back()["pca_components"] =
+            trainModel(labelled(v.extraction), folds.front().train, v.params).pca.outputSize();
+      writeAtomically(dir + "/confusion_" + v.name + ".csv", confusionCsv(c));
+      std::printf("%-36s accuracy %5.1f%%  (mean over folds %5.1f%%)\n", v.title.c_str(), 100 * c.accuracy(),
+                  100 * mean_fold);
+    }
+    report["variants"] = results;
+
+    const int sweep = static_cast<int>(args.number("sweep", 40));
+    if (sweep > 0)
+    {
+      std::vector<Pca> pcas;  // per fold, fitted once: the basis does not depend on F
+      json curve = { { "frames", json::array() }, { "sumflow", json::array() }, { "sumflow_pca", json::array() } };
+      for (int f = 1; f <= sweep; ++f)
+      {
+        RecognitionParams a = sum, b = pca;
+        a.frames = b.frames = f;
+        curve["frames"].push_back(f);
+        curve["sumflow"].push_back(runFolds(labelled(0), folds, a).accuracy());
+        curve["sumflow_pca"].push_back(runFolds(labelled(0), folds, b, nullptr, &pcas).accuracy());
+        std::fprintf(stderr, "\r  frames sweep: %d/%d", f, sweep);
+      }
+      std::fprintf(stderr, "\n");
+      report["frames_sweep"] = curve;
+    }
+    const auto t2 = std::chrono::steady_clock::now();
+    report["timing"] = { { "descriptors_s", std::chrono::duration<double>(t1 - t0).count() },
+                         { "classification_s", std::chrono::duration<double>(t2 - t1).count() },
+                         { "total_s", std::chrono::duration<double>(t2 - t0).count() },
+                         { "jobs", args.number("jobs", 2) } };
+    writeAtomically(dir + "/report.json", report.dump(2) + "\n");
+    std::printf("evaluate: report in %s/report.json (%.0f s)\n", dir.c_str(),
+                std::chrono::duration<double>(t2 - t0).count());
+    if (!args.has("no-plots"))
+    {
+      const std::string cmd = "/usr/bin/python3 '" + plotScript() + "' '" + dir + "'";
+      if (std::system(cmd.c_str()) != 0)
+        throw std::runtime_error("plotting failed: " + cmd);
+    }
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "evaluate: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,142 @@
+#include "extraction.h"
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <functional>
+#include <mutex>
+#include <sstream>
+#include <sys/stat.h>
+#include <thread>
+
+namespace action_flow
+{
+namespace tools
+{
+namespace
+{
+std::atomic<bool> g_stop{ false };
+
+extern "C" void onSignal(int)
+{
+  g_stop = true;
+}
+
+void makeDirs(const std::string& path)
+{
+  for (std::size_t i = 1; i <= path.size(); ++i)
+    if (i == path.size() || path[i] == '/')
+      ::mkdir(path.substr(0, i).c_str(), 0755);
+}
+
+std::string hex(std::size_t h)
+{
+  char buf[17];
+  std::snprintf(buf, sizeof(buf), "%016zx", h);
+  return buf;
+}
+}  // namespace
+
+void installInterruptHandler()
+{
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+}
+
+std::vector<std::string> splitList(const std::string& s)
+{
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty())
+      out.push_back(item);
+  return out;
+}
+
+std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t)
+{
+  std::ostringstream s;
+  s << "v1 vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
+    << " ms" << p.flow.min_speed << " is" << p.flow.isolation_speed << " nr" << p.flow.neighbour_radius << " g"
+    << p.grid.parts_x << p.grid.parts_y << p.grid.parts_z << " " << p.grid.width << " " << p.grid.height << " "
+    << p.grid.depth << " " << p.grid.reference_height << " " << toString(p.grid.aggregation) << " | t"
+    << t.detection_voxel_size << " " << t.person_voxel_size << " " << t.max_range << " " << t.min_height << " "
+    << t.max_height << " " << t.min_width << " " << t.max_width << " " << t.ground_tolerance << " "
+    << t.cluster_tolerance << " " << t.min_points << " " << t.fixed_ground << " " << t.ground.transpose() << " "
+    << t.hog_classifier_file << " " << t.gate << " " << t.lost_after << " " << t.confirm_after;
+  return toString(p.grid.aggregation) + (p.flow.reject_outliers ? "" : "_raw") + "_" + hex(std::hash<std::string>()(s.str()));
+}
+
+std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& samples,
+                                                  const std::vector<RecognitionParams>& variants,
+                                                  const TrackerParams& tracker, const std::string& cache_dir, int jobs)
+{
+  std::vector<std::string> dirs;
+  for (const auto& v : variants)
+  {
+    dirs.push_back(cache_dir + "/" + paramsFingerprint(v, tracker));
+    makeDirs(dirs.back());
+  }
+  std::vector<std::vector<SampleFrames>> out(variants.size(), std::vector<SampleFrames>(samples.size()));
+  const auto cachePath = [&](std::size_t v, std::size_t s) {
+    return dirs[v] + "/" + samples[s].key + "_" + hex(std::hash<std::string>()(samples[s].fingerprint)) + ".frames";
+  };
+
+  std::atomic<std::size_t> next{ 0 }, done{ 0 }, cached{ 0 };
+  std::mutex print;
+  std::string error;
+  const auto start = std::chrono::steady_clock::now();
+  const auto worker = [&]() {
+    for (std::size_t s = next++; s < samples.size() && !g_stop; s = next++)
+    {
+      try
+      {
+        bool all = true;
+        for (std::size_t v = 0; v < variants.size(); ++v)
+          all = loadSampleFrames(cachePath(v, s), out[v][s]) && all;
+        if (all)
+          ++cached;
+        else
+        {
+          auto source = samples[s].open();
+          auto frames = extractSample(*source, tracker, variants);
+          for (std::size_t v = 0; v < variants.size(); ++v)
+          {
+            saveSampleFrames(cachePath(v, s), frames[v]);
+            out[v][s] = std::move(frames[v]);
+          }
+        }
+      }
+      catch (const std::exception& e)
+      {
+        std::lock_guard<std::mutex> lock(print);
+        if (error.empty())
+          error = samples[s].key + ": " + e.what();
+        g_stop = true;
+      }
+      const std::size_t n = ++done;
+      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double eta = secs / n * (samples.size() - n);
+      std::lock_guard<std::mutex> lock(print);
+      std::fprintf(stderr, "\r  descriptors: %zu/%zu samples (%zu cached)  %.0f s elapsed, about %.0f s left   ", n,
+                   samples.size(), cached.load(), secs, eta);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, jobs); ++j)
+    pool.emplace_back(worker);
+  for (auto& t : pool)
+    t.join();
+  std::fprintf(stderr, "\n");
+  if (!error.empty())
+    throw std::runtime_error(error);
+  if (g_stop)
+    throw std::runtime_error("interrupted after " + std::to_string(done.load()) + " of " +
+                             std::to_string(samples.size()) + " samples; their descriptors are cached");
+  return out;
+}
+
+}  // namespace tools
+}  // namespace action_flow

@@ -1,0 +1,334 @@
+#include "sample_sources.h"
+
+#include <action_flow/depth_cloud.h>
+
+#include <pcl_conversions/pcl_conversions.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <cstring>
+#include <opencv2/imgcodecs.hpp>
+#include <map>
+#include <sys/stat.h>
+
+namespace action_flow
+{
+namespace tools
+{
+namespace
+{
+// Frames of one bag: the organized PointCloud2 topic if the bag has it, else depth + colour images
+// with equal stamps (raw sensor_msgs/Image, or CompressedImage on <topic>/compressed: PNG depth in
+// millimetres, JPEG colour) and camera_info, made into an organized cloud.
+class BagFrameSource : public FrameSource
+{
+public:
+  BagFrameSource(const std::string& path, const BagTopics& topics) : path_(path), topics_(topics)
+  {
+    try
+    {
+      bag_.open(path, rosbag::bagmode::Read);
+    }
+    catch (const rosbag::BagException& e)
+    {
+      throw DatasetError(path + ": cannot open bag (" + e.what() + ")");
+    }
+    rosbag::View probe(bag_, rosbag::TopicQuery(std::vector<std::string>{ topics_.points }));
+    use_points_ = probe.size() > 0;
+    const std::vector<std::string> wanted =
+        use_points_ ? std::vector<std::string>{ topics_.points } :
+                      std::vector<std::string>{ topics_.depth, topics_.rgb, topics_.depth + "/compressed",
+                                                topics_.rgb + "/compressed", topics_.info };
+    view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(wanted));
+    if (view_->size() == 0)
+      throw DatasetError(path + ": bag has neither " + topics_.points + " nor " + topics_.depth + " + " + topics_.rgb);
+    it_ = view_->begin();
+  }
+
+  bool next(Cloud& cloud, double& stamp) override
+  {
+    for (; it_ != view_->end(); ++it_)
+    {
+      const rosbag::MessageInstance& m = *it_;
+      if (use_points_)
+      {
+        auto msg = m.instantiate<sensor_msgs::PointCloud2>();
+        if (!msg)
+          continue;
+        pcl::fromROSMsg(*msg, cloud);
+        stamp = msg->header.stamp.toSec();
+        ++it_;
+        return true;
+      }
+      const bool is_depth = m.getTopic().rfind(topics_.depth, 0) == 0;
+      if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
+      {
+        k_.fx = info->K[0], k_.cx = info->K[2], k_.fy = info->K[4], k_.cy = info->K[5];
+        have_info_ = true;
+      }
+      else if (auto img = m.instantiate<sensor_msgs::Image>())
+        is_depth ? readDepth(*img) : readColour(*img);
+      else if (auto jpg = m.instantiate<sensor_msgs::CompressedImage>())
+        is_depth ? readDepth(*jpg) : readColour(*jpg);
+      if (have_info_ && depth_stamp_ == colour_stamp_ && depth_stamp_ > 0.0)
+      {
+        depthToCloud(depth_m_.data(), rgb8_.data(), width_, height_, k_, cloud);
+        stamp = depth_stamp_;
+        depth_stamp_ = -1.0;
+        colour_stamp_ = -2.0;
+        ++it_;
+        return true;
+      }
+    }
+    return false;
+  }
+
+private:
+  [[noreturn]] void fail(const std::string& topic, const std::string& what) const
+  {
+    throw DatasetError(path_ + ": topic " + topic + ": " + what);
+  }
+
+  void size(int w, int h, const std::string& topic)
+  {
+    if (w <= 0 || h <= 0 || (width_ > 0 && (w != width_ || h != height_)))
+      fail(topic, "image size " + std::to_string(w) + "x" + std::to_string(h) + " differs from the other stream");
+    width_ = w;
+    height_ = h;
+  }
+
+  void readDepth(const sensor_msgs::Image& img)
+  {
+    namespace enc = sensor_msgs::image_encodings;
+    size(img.width, img.height, topics_.depth);
+    depth_m_.resize(static_cast<std::size_t>(width_) * height_);
+    if (img.encoding == enc::TYPE_32FC1)
+      for (int v = 0; v < height_; ++v)
+        std::memcpy(&depth_m_[v * width_], &img.data[v * img.step], sizeof(float) * width_);
+    else if (img.encoding == enc::TYPE_16UC1)
+      for (int v = 0; v < height_; ++v)
+        for (int u = 0; u < width_; ++u)
+        {
+          std::uint16_t mm;
+          std::memcpy(&mm, &img.data[v * img.step + 2 * u], 2);
+          depth_m_[v * width_ + u] = mm * 0.001f;
+        }
+    else
+      fail(topics_.depth, "encoding '" + img.encoding + "' (expected 32FC1 or 16UC1)");
+    depth_stamp_ = img.header.stamp.toSec();
+  }
+
+  void readDepth(const sensor_msgs::CompressedImage& msg)
+  {
+    const cv::Mat png = cv::imdecode(msg.data, cv::IMREAD_UNCHANGED);
+    if (png.empty() || png.type() != CV_16UC1)
+      fail(topics_.depth + "/compressed", "not a 16-bit PNG depth image (format '" + msg.format + "')");
+    size(png.cols, png.rows, topics_.depth);
+    depth_m_.resize(static_cast<std::size_t>(width_) * height_);
+    for (int v = 0; v < height_; ++v)
+      for (int u = 0; u < width_; ++u)
+        depth_m_[v * width_ + u] = png.at<std::uint16_t>(v, u) * 0.001f;
+    depth_stamp_ = msg.header.stamp.toSec();
+  }
+
+  void readColour(const sensor_msgs::Image& img)
+  {
+    namespace enc = sensor_msgs::image_encodings;
+    const bool bgr = img.encoding == enc::BGR8;
+    if (!bgr && img.encoding != enc::RGB8)
+      fail(topics_.rgb, "encoding '" + img.encoding + "' (expected rgb8 or bgr8)");
+    size(img.width, img.height, topics_.rgb);
+    rgb8_.resize(static_cast<std::size_t>(3) * width_ * height_);
+    for (int v = 0; v < height_; ++v)
+      for (int u = 0; u < width_; ++u)
+      {
+        const std::uint8_t* p = &img.data[v * img.step + 3 * u];
+        std::uint8_t* q = &rgb8_[3 * (v * width_ + u)];
+        q[0] = bgr ? p[2] : p[0];
+        q[1] = p[1];
+        q[2] = bgr ? p[0] : p[2];
+      }
+    colour_stamp_ = img.header.stamp.toSec();
+  }
+
+  void readColour(const sensor_msgs::CompressedImage& msg)
+  {
+    const cv::Mat bgr = cv::imdecode(msg.data, cv::IMREAD_COLOR);
+    if (bgr.empty())
+      fail(topics_.rgb + "/compressed", "cannot decode the image (format '" + msg.format + "')");
+    size(bgr.cols, bgr.rows, topics_.rgb);
+    rgb8_.resize(static_cast<std::size_t>(3) * width_ * height_);
+    for (int v = 0; v < height_; ++v)
+      for (int u = 0; u < width_; ++u)
+      {
+        const cv::Vec3b& p = bgr.at<cv::Vec3b>(v, u);
+        std::uint8_t* q = &rgb8_[3 * (v * width_ + u)];
+        q[0] = p[2];
+        q[1] = p[1];
+        q[2] = p[0];
+      }
+    colour_stamp_ = msg.header.stamp.toSec();
+  }
+
+  std::string path_;
+  BagTopics topics_;
+  rosbag::Bag bag_;
+  std::unique_ptr<rosbag::View> view_;
+  rosbag::View::iterator it_;
+  bool use_points_ = false;
+  bool have_info_ = false;
+  Intrinsics k_;
+  int width_ = 0, height_ = 0;
+  double depth_stamp_ = -1.0, colour_stamp_ = -2.0;
+  std::vector<float> depth_m_;
+  std::vector<std::uint8_t> rgb8_;
+};
+
+std::string fileFingerprint(const std::string& path)
+{
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0)
+    return "missing";
+  return std::to_string(st.st_size) + "-" + std::to_string(st.st_mtime);
+}
+}  // namespace
+
+std::vector<SampleRef> samplesFromIndex(const std::string& index, const BagTopics& topics,
+                                        const std::vector<std::string>& known_actions)
+{
+  std::vector<SampleRef> out;
+  for (const IndexEntry& e : readIndex(index, known_actions))
+  {
+    SampleRef s;
+    s.key = e.person + "_" + e.action + "_" + std::to_string(e.repetition);
+    for (char& c : s.key)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-')
+        c = '_';
+    s.person = e.person;
+    s.action = e.action;
+    s.repetition = e.repetition;
+    s.fingerprint = "bag:" + e.path + ":" + fileFingerprint(e.path);
+    const std::string path = e.path;
+    s.open = [path, topics]() -> std::unique_ptr<FrameSource> {
+      return std::make_unique<BagFrameSource>(path, topics);
+    };
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace tools
+}  // namespace action_flow
+
+#include "cli.h"
+
+#include <cstdlib>
+
+namespace action_flow
+{
+namespace tools
+{
+void addSampleOptions(std::set<std::string>& valued)
+{
+  valued.insert({ "points-topic", "depth-topic", "rgb-topic", "info-topic", "synth", "people", "repetitions", "seed",
+                  "msr-dir", "max-frames" });
+}
+
+std::vector<SampleRef> selectSamples(const Args& args)
+{
+  BagTopics topics;
+  topics.points = args.get("points-topic", topics.points);
+  topics.depth = args.get("depth-topic", topics.depth);
+  topics.rgb = args.get("rgb-topic", topics.rgb);
+  topics.info = args.get("info-topic", topics.info);
+  if (args.has("index") == args.has("synth"))
+    throw std::invalid_argument("give exactly one of --index INDEX.csv and --synth ias|msr");
+  if (args.has("index"))
+    return samplesFromIndex(args.get("index"), topics);
+  return samplesFromSynth(args);
+}
+
+std::string cacheDir(const Args& args)
+{
+  if (args.has("cache"))
+    return args.get("cache");
+  const char* home = std::getenv("HOME");
+  return std::string(home ? home : ".") + "/.ros/action_flow/cache";
+}
+
+}  // namespace tools
+}  // namespace action_flow
+
+#include <action_flow/synth/synth.h>
+
+namespace action_flow
+{
+namespace tools
+{
+namespace
+{
+// Frames rendered in-process by the virtual Kinect, one at a time.
+class SynthFrameSource : public FrameSource
+{
+public:
+  explicit SynthFrameSource(const synth::SampleSpec& spec) : renderer_(spec) {}
+  bool next(Cloud& cloud, double& stamp) override
+  {
+    if (next_ >= renderer_.frames())
+      return false;
+    renderer_.render(next_, cloud);
+    stamp = renderer_.stamp(next_++);
+    return true;
+  }
+
+private:
+  synth::SampleRenderer renderer_;
+  int next_ = 0;
+};
+}  // namespace
+
+// Part of every rendered sample's cache key: bump it when the renderer's output changes, so that
+// cached descriptors of the old rendering are not reused.
+constexpr const char* kRendererRevision = "synth-r1";
+
+std::vector<SampleRef> samplesFromSynth(const Args& args)
+{
+  const std::string which = args.get("synth");
+  const auto seed = static_cast<std::uint64_t>(args.number("seed", 1));
+  std::vector<synth::SampleSpec> specs;
+  if (which == "ias")
+    specs = synth::iasLabSamples(static_cast<int>(args.number("people", 12)),
+                                 static_cast<int>(args.number("repetitions", 3)), seed);
+  else if (which == "msr")
+  {
+    if (!args.has("msr-dir"))
+      throw std::invalid_argument("--synth msr needs --msr-dir FOLDER (the MSR Action3D skeleton files)");
+    specs = synth::msrSamples(args.get("msr-dir"), seed);
+  }
+  else
+    throw std::invalid_argument("--synth must be ias or msr, not '" + which + "'");
+  const int max_frames = static_cast<int>(args.number("max-frames", 0));
+  std::vector<SampleRef> out;
+  for (auto spec : specs)
+  {
+    spec.max_frames = max_frames;
+    SampleRef s;
+    s.key = spec.name();
+    s.person = spec.person;
+    s.action = spec.action;
+    s.repetition = spec.repetition;
+    s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" +
+                    std::to_string(spec.seed) + ":" + std::to_string(max_frames);
+    s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace tools
+}  // namespace action_flow

@@ -1,0 +1,57 @@
+// Where the tools get samples from: bags listed in a dataset index (this file) or the virtual
+// Kinect rendering in-process.
+#pragma once
+
+#include <action_flow/feature_extractor.h>
+
+#include <functional>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+namespace tools
+{
+/** A sample the tools can open any number of times. */
+struct SampleRef
+{
+  std::string key;          // unique and file-name safe, e.g. "p03_wave_2"
+  std::string person, action;
+  int repetition = 0;
+  std::string fingerprint;  // changes when the sample's content would (file size+mtime, renderer version)
+  std::function<std::unique_ptr<FrameSource>()> open;
+};
+
+/** Topics of a bag in the IAS-Lab layout. */
+struct BagTopics
+{
+  std::string points = "/camera/depth_registered/points";
+  std::string depth = "/camera/depth_registered/image_raw";
+  std::string rgb = "/camera/rgb/image_color";
+  std::string info = "/camera/rgb/camera_info";
+};
+
+/** The samples of a dataset index (bags); @throws DatasetError naming the line. */
+std::vector<SampleRef> samplesFromIndex(const std::string& index, const BagTopics& topics,
+                                        const std::vector<std::string>& known_actions = {});
+
+}  // namespace tools
+}  // namespace action_flow
+
+namespace action_flow
+{
+namespace tools
+{
+class Args;
+/** Adds the options that choose samples (--index, topic names, --synth ...) to @p valued. */
+void addSampleOptions(std::set<std::string>& valued);
+/** The virtual Kinect's samples (--synth ias|msr, --people, --repetitions, --seed, --msr-dir, --max-frames). */
+std::vector<SampleRef> samplesFromSynth(const Args& args);
+/** The samples the options name. @throws on a bad index or option, naming it. */
+std::vector<SampleRef> selectSamples(const Args& args);
+/** The cache folder the options name (default ~/.ros/action_flow/cache). */
+std::string cacheDir(const Args& args);
+}  // namespace tools
+}  // namespace action_flow

@@ -1,0 +1,76 @@
+// train: a dataset (bags listed in an index, or the virtual Kinect rendering in-process) in, a
+// model file out. Same code path as the live pipeline: tracker -> flow -> grid descriptor ->
+// sequence descriptor (-> PCA).
+#include "cli.h"
+#include "extraction.h"
+#include "sample_sources.h"
+
+#include <cstdio>
+#include <iostream>
+
+using namespace action_flow;
+using namespace action_flow::tools;
+
+namespace
+{
+const char* kUsage =
+    "usage: train --output MODEL (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
+    "  --descriptor sumflow|meanflow   frame descriptor (default sumflow)\n"
+    "  --frames F                      frames per sequence descriptor (default 30)\n"
+    "  --pca [--pca-variance 0.99]     project frames on a PCA basis keeping that variance\n"
+    "  --no-outlier-rejection          skip the flow's speed and isolation rules\n"
+    "  --neighbours K                  k of the k-NN classifier stored in the model (default 1)\n"
+    "  --exclude-person P              leave one person out of the training set\n"
+    "  --jobs N                        samples processed in parallel (default 2)\n"
+    "  --cache DIR                     frame descriptor cache (default ~/.ros/action_flow/cache)\n";
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  try
+  {
+    std::set<std::string> valued = { "output", "index", "jobs", "cache", "exclude-person" };
+    valued.insert(methodOptions().begin(), methodOptions().end());
+    addSampleOptions(valued);
+    const Args args(argc, argv, { "pca", "no-outlier-rejection", "help" }, valued);
+    if (args.has("help") || !args.has("output"))
+    {
+      std::fputs(kUsage, args.has("help") ? stdout : stderr);
+      return args.has("help") ? 0 : 2;
+    }
+    const RecognitionParams params = methodParams(args);
+    const TrackerParams tracker;
+    std::vector<SampleRef> samples = selectSamples(args);
+    if (args.has("exclude-person"))
+    {
+      std::vector<SampleRef> kept;
+      for (auto& s : samples)
+        if (s.person != args.get("exclude-person"))
+          kept.push_back(std::move(s));
+      samples = std::move(kept);
+    }
+    if (samples.empty())
+      throw std::invalid_argument("no samples to train on");
+    installInterruptHandler();
+    std::fprintf(stderr, "train: %zu samples\n", samples.size());
+    const auto frames = extractAll(samples, { params }, tracker, cacheDir(args), static_cast<int>(args.number("jobs", 2)));
+    std::vector<LabelledSample> labelled;
+    std::vector<std::size_t> rows;
+    for (std::size_t i = 0; i < samples.size(); ++i)
+    {
+      labelled.push_back({ samples[i].person, samples[i].action, &frames[0][i] });
+      rows.push_back(i);
+    }
+    const ActionModel model = trainModel(labelled, rows, params);
+    model.save(args.get("output"));
+    std::printf("train: wrote %s: %zu sequences, %zu actions, descriptor length %ld%s\n", args.get("output").c_str(),
+                model.labels.size(), model.classifier().classes().size(), static_cast<long>(model.descriptors.cols()),
+                model.pca.empty() ? "" : (" (PCA " + std::to_string(model.pca.outputSize()) + " per frame)").c_str());
+    return 0;
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "train: %s\n", e.what());
+    return 1;
+  }
+}

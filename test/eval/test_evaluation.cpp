@@ -1,0 +1,196 @@
+// Dataset index, protocols, experiments and the descriptor cache.
+#include <action_flow/evaluation.h>
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+using namespace action_flow;
+
+namespace
+{
+std::string dir()
+{
+  return ::testing::TempDir();
+}
+
+std::string writeIndex(const std::string& name, const std::string& text)
+{
+  const std::string path = dir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+// Expects readIndex to fail with a message holding "<file>:<line>" and @p what.
+void expectIndexError(const std::string& text, int line, const std::string& what)
+{
+  const std::string path = writeIndex("bad_index.csv", text);
+  try
+  {
+    readIndex(path, { "wave", "kick" });
+    ADD_FAILURE() << "accepted a malformed index: " << what;
+  }
+  catch (const DatasetError& e)
+  {
+    const std::string msg = e.what();
+    const std::string where = line > 0 ? path + ":" + std::to_string(line) : path;
+    EXPECT_NE(msg.find(where), std::string::npos) << msg;
+    EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  }
+}
+
+// Sample frames whose descriptors are the action's direction plus noise: separable by action.
+SampleFrames framesFor(int action, unsigned seed, int n = 12)
+{
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.0f, 0.05f);
+  SampleFrames f;
+  f.descriptors.resize(n, 192);
+  for (int r = 0; r < n; ++r)
+  {
+    for (int c = 0; c < 192; ++c)
+      f.descriptors(r, c) = noise(rng);
+    f.descriptors(r, 7 * action + r % 3) += 1.0f;
+    f.stamps.push_back(r / 30.0);
+  }
+  return f;
+}
+}  // namespace
+
+TEST(DatasetIndex, ReadsAValidIndexRelativeToItsFolder)
+{
+  std::ofstream(dir() + "a.bag") << "x";
+  std::ofstream(dir() + "b.bag") << "x";
+  const auto e = readIndex(writeIndex("good.csv", "path,person,action,repetition,frames\n"
+                                                  "a.bag,p01,wave,1,90\n"
+                                                  "\n"
+                                                  "b.bag, p02 ,kick,2,75\n"),
+                           { "wave", "kick" });
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_EQ(e[1].path, dir() + "b.bag");
+  EXPECT_EQ(e[1].person, "p02");
+  EXPECT_EQ(e[1].repetition, 2);
+  EXPECT_EQ(e[1].frames, 75);
+  EXPECT_EQ(e[1].line, 4);
+}
+
+TEST(DatasetIndex, MalformedIndexNamesTheLine)
+{
+  std::ofstream(dir() + "a.bag") << "x";
+  const std::string head = "path,person,action,repetition,frames\n";
+  expectIndexError(head + "a.bag,p01,wave,1,90\nmissing.bag,p01,kick,1,90\n", 3, "does not exist");
+  expectIndexError(head + "a.bag,p01,dance,1,90\n", 2, "unknown action 'dance'");
+  expectIndexError(head + "a.bag,p01,wave,1\n", 2, "expected 5 fields");
+  expectIndexError(head + "a.bag,p01,wave,one,90\n", 2, "'repetition' must be a non-negative integer");
+  expectIndexError(head + "a.bag,,wave,1,90\n", 2, "'person' is empty");
+  expectIndexError(head + "a.bag,p01,wave,1,90\na.bag,p01,wave,1,90\n", 3, "duplicate sample");
+  expectIndexError("path,person,action,frames\n", 1, "lacks column 'repetition'");
+  expectIndexError(head, 0, "lists no samples");
+  expectIndexError("", 0, "empty dataset index");
+  EXPECT_THROW(readIndex(dir() + "no_such_index.csv"), DatasetError);
+}
+
+TEST(Protocols, LeaveOnePersonOutNeverTrainsOnTheTestPerson)
+{
+  const std::vector<std::string> persons = { "p1", "p2", "p3", "p1", "p2", "p3", "p1" };
+  const auto folds = leaveOnePersonOut(persons);
+  ASSERT_EQ(folds.size(), 3u);
+  for (const auto& f : folds)
+  {
+    EXPECT_EQ(f.train.size() + f.test.size(), persons.size());
+    ASSERT_FALSE(f.test.empty());
+    const std::string tested = persons[f.test[0]];
+    for (std::size_t t : f.test)
+      EXPECT_EQ(persons[t], tested);
+    for (std::size_t r : f.train)
+      EXPECT_NE(persons[r], tested) << f.name;
+  }
+  EXPECT_EQ(folds[0].test, (std::vector<std::size_t>{ 0, 3, 6 }));
+}
+
+TEST(Protocols, CrossSubjectSplitsByPerson)
+{
+  const std::vector<std::string> persons = { "s01", "s02", "s03", "s10", "s01" };
+  const Fold f = crossSubject(persons, { "s01", "s03" });
+  EXPECT_EQ(f.train, (std::vector<std::size_t>{ 0, 2, 4 }));
+  EXPECT_EQ(f.test, (std::vector<std::size_t>{ 1, 3 }));
+}
+
+TEST(Confusion, AccuracyPrecisionRecall)
+{
+  Confusion c({ "a", "b" });
+  c.add("a", "a");
+  c.add("a", "a");
+  c.add("a", "b");
+  c.add("b", "b");
+  EXPECT_DOUBLE_EQ(c.accuracy(), 0.75);
+  EXPECT_DOUBLE_EQ(c.recall()[0], 2.0 / 3);
+  EXPECT_DOUBLE_EQ(c.precision()[1], 0.5);
+  EXPECT_EQ(c.support(), (std::vector<int>{ 3, 1 }));
+  EXPECT_THROW(c.add("a", "zzz"), std::invalid_argument);
+}
+
+TEST(Experiments, SeparableActionsAreAllRecognised)
+{
+  std::vector<SampleFrames> frames;
+  std::vector<LabelledSample> samples;
+  const char* actions[] = { "wave", "kick", "punch" };
+  for (int p = 0; p < 4; ++p)
+    for (int a = 0; a < 3; ++a)
+      frames.push_back(framesFor(a, 100 * p + a));
+  for (int p = 0; p < 4; ++p)
+    for (int a = 0; a < 3; ++a)
+      samples.push_back({ "p" + std::to_string(p), actions[a], &frames[3 * p + a] });
+  std::vector<std::string> persons;
+  for (const auto& s : samples)
+    persons.push_back(s.person);
+  RecognitionParams params;
+  params.frames = 5;
+  std::vector<double> per_fold;
+  const Confusion c = runFolds(samples, leaveOnePersonOut(persons), params, &per_fold);
+  EXPECT_EQ(c.total(), 12);
+  EXPECT_DOUBLE_EQ(c.accuracy(), 1.0);
+  EXPECT_EQ(per_fold.size(), 4u);
+
+  params.use_pca = true;
+  params.pca_variance = 0.9;
+  std::vector<Pca> pcas;
+  EXPECT_DOUBLE_EQ(runFolds(samples, leaveOnePersonOut(persons), params, nullptr, &pcas).accuracy(), 1.0);
+  EXPECT_EQ(pcas.size(), 4u);
+  const ActionModel m = trainModel(samples, { 0, 1, 2, 3 }, params);
+  EXPECT_LT(m.pca.outputSize(), 192);
+  EXPECT_EQ(m.descriptors.cols(), 5 * m.pca.outputSize());
+
+  // A fold that trains on the person it tests is refused.
+  Fold leaky = leaveOnePersonOut(persons)[0];
+  leaky.train.push_back(leaky.test[0]);
+  EXPECT_THROW(runFolds(samples, { leaky }, params), std::invalid_argument);
+}
+
+TEST(Experiments, SampleWithoutFlowIsAStillFrame)
+{
+  SampleFrames moving = framesFor(0, 1), still;
+  const std::vector<LabelledSample> samples = { { "p1", "wave", &moving }, { "p2", "standing", &still } };
+  RecognitionParams params;
+  params.frames = 4;
+  const ActionModel m = trainModel(samples, { 0, 1 }, params);
+  EXPECT_EQ(m.descriptors.row(1).norm(), 0.0f);
+  EXPECT_EQ(m.classifier().classify(sequenceOf({ "p3", "?", &still }, m)).label, "standing");
+}
+
+TEST(SampleCache, RoundTripsAndRejectsDamage)
+{
+  const std::string path = dir() + "sample.frames";
+  const SampleFrames f = framesFor(2, 9, 7);
+  saveSampleFrames(path, f);
+  SampleFrames g;
+  ASSERT_TRUE(loadSampleFrames(path, g));
+  EXPECT_EQ(g.descriptors, f.descriptors);
+  EXPECT_EQ(g.stamps, f.stamps);
+  EXPECT_FALSE(loadSampleFrames(dir() + "absent.frames", g));
+  std::ofstream(path, std::ios::app) << "junk";
+  EXPECT_THROW(loadSampleFrames(path, g), DatasetError);
+  std::remove(path.c_str());
+}

@@ -1,0 +1,102 @@
+// train and evaluate end to end on a tiny rendered dataset, and their errors on bad input.
+#include <gtest/gtest.h>
+
+#include <action_flow/action_model.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+namespace
+{
+const std::string kBin = ACTION_FLOW_BIN_DIR;  // where train, evaluate and synth are built
+const std::string kScripts = ACTION_FLOW_SOURCE_DIR "/scripts";
+
+struct Result
+{
+  int status;
+  std::string output;
+};
+
+Result run(const std::string& cmd)
+{
+  Result r{ 0, "" };
+  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+  char buf[4096];
+  while (p && std::fgets(buf, sizeof(buf), p))
+    r.output += buf;
+  r.status = p ? ::pclose(p) : -1;
+  return r;
+}
+
+std::string tempDir(const std::string& name)
+{
+  const std::string d = ::testing::TempDir() + "action_flow_tools_" + name;
+  std::system(("rm -rf '" + d + "' && mkdir -p '" + d + "'").c_str());
+  return d;
+}
+
+// A tiny dataset: 3 people x 3 actions x 1 repetition, 40 frames each, rendered to bags by synth
+// (one run per action), with one index over all of them.
+const std::string& tinyDataset()
+{
+  static std::string index;
+  if (!index.empty())
+    return index;
+  const std::string d = tempDir("data");
+  std::string csv = "path,person,action,repetition,frames\n";
+  for (const std::string action : { "wave", "kick", "sit_down" })
+  {
+    const Result r = run(kBin + "/synth --out '" + d + "/" + action + "' --people 3 --repetitions 1 --action " + action +
+                      " --frames 40 --jobs 2 --quiet");
+    EXPECT_EQ(r.status, 0) << r.output;
+    std::ifstream part(d + "/" + action + "/ias/index.csv");
+    std::string line;
+    std::getline(part, line);  // header
+    while (std::getline(part, line))
+      csv += action + "/ias/" + line + "\n";
+  }
+  std::ofstream(d + "/index.csv") << csv;
+  index = d + "/index.csv";
+  return index;
+}
+}  // namespace
+
+TEST(Tools, TinyDatasetTrainsAndEvaluatesEndToEnd)
+{
+  const std::string index = tinyDataset();
+  const std::string out = tempDir("report"), cache = tempDir("cache");
+  const std::string model = out + "/tiny.model";
+
+  Result r = run(kBin + "/train --index '" + index + "' --output '" + model + "' --frames 10 --cache '" + cache + "'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const action_flow::ActionModel m = action_flow::ActionModel::load(model);
+  EXPECT_EQ(m.labels.size(), 9u);
+  EXPECT_EQ(m.params.frames, 10);
+  EXPECT_GT(m.descriptors.norm(), 0.0f) << "the actors moved: some flow must have been found";
+
+  r = run(kBin + "/evaluate --index '" + index + "' --output '" + out + "' --frames 10 --sweep 4 --cache '" + cache +
+          "'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  r = run("/usr/bin/python3 " + kScripts + "/validate_report.py '" + out + "'");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("report OK"), std::string::npos) << r.output;
+
+  // A broken report is caught by the validator (so the check above could fail).
+  std::ofstream(out + "/report.json") << "{\"protocol\": \"lopo\"}";
+  EXPECT_NE(run("/usr/bin/python3 " + kScripts + "/validate_report.py '" + out + "'").status, 0);
+}
+
+TEST(Tools, MalformedIndexGivesOneLineNamingTheLine)
+{
+  const std::string d = tempDir("badindex");
+  std::ofstream(d + "/index.csv") << "path,person,action,repetition,frames\nnope.bag,p01,wave,1,30\n";
+  const Result r = run(kBin + "/train --index '" + d + "/index.csv' --output '" + d + "/m.model'");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find(d + "/index.csv:2: sample file"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  const Result bad_option = run(kBin + "/evaluate --output x --index i --protocol nonsense");
+  EXPECT_NE(bad_option.status, 0);
+}
