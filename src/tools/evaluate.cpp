@@ -87,8 +87,8 @@ int main(int argc, char** argv)
 {
   try
   {
-    std::set<std::string> valued = { "output", "index", "jobs", "cache", "protocol", "train-persons", "actions",
-                                     "variants", "sweep" };
+    std::set<std::string> valued = { "output", "index", "jobs", "cache", "protocol", "train-persons", "variants",
+                                     "sweep" };
     valued.insert(methodOptions().begin(), methodOptions().end());
     addSampleOptions(valued);
     const Args args(argc, argv, { "help", "no-plots" }, valued);
@@ -101,15 +101,6 @@ int main(int argc, char** argv)
     const RecognitionParams base = methodParams(args);
     const TrackerParams tracker;
     std::vector<SampleRef> samples = selectSamples(args);
-    if (args.has("actions"))
-    {
-      const auto keep = splitList(args.get("actions"));
-      std::vector<SampleRef> kept;
-      for (auto& s : samples)
-        if (std::find(keep.begin(), keep.end(), s.action) != keep.end())
-          kept.push_back(std::move(s));
-      samples = std::move(kept);
-    }
     if (samples.empty())
       throw std::invalid_argument("no samples to evaluate");
 

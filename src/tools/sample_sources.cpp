@@ -226,6 +226,9 @@ std::vector<SampleRef> samplesFromIndex(const std::string& index, const BagTopic
 }  // namespace action_flow
 
 #include "cli.h"
+#include "extraction.h"
+
+#include <algorithm>
 
 #include <cstdlib>
 
@@ -236,7 +239,7 @@ namespace tools
 void addSampleOptions(std::set<std::string>& valued)
 {
   valued.insert({ "points-topic", "depth-topic", "rgb-topic", "info-topic", "synth", "people", "repetitions", "seed",
-                  "msr-dir", "max-frames" });
+                  "msr-dir", "max-frames", "actions" });
 }
 
 std::vector<SampleRef> selectSamples(const Args& args)
@@ -248,9 +251,15 @@ std::vector<SampleRef> selectSamples(const Args& args)
   topics.info = args.get("info-topic", topics.info);
   if (args.has("index") == args.has("synth"))
     throw std::invalid_argument("give exactly one of --index INDEX.csv and --synth ias|msr");
-  if (args.has("index"))
-    return samplesFromIndex(args.get("index"), topics);
-  return samplesFromSynth(args);
+  std::vector<SampleRef> all = args.has("index") ? samplesFromIndex(args.get("index"), topics) : samplesFromSynth(args);
+  if (!args.has("actions"))
+    return all;
+  const auto keep = splitList(args.get("actions"));
+  std::vector<SampleRef> kept;
+  for (auto& s : all)
+    if (std::find(keep.begin(), keep.end(), s.action) != keep.end())
+      kept.push_back(std::move(s));
+  return kept;
 }
 
 std::string cacheDir(const Args& args)

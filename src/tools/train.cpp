@@ -21,6 +21,7 @@ const char* kUsage =
     "  --no-outlier-rejection          skip the flow's speed and isolation rules\n"
     "  --neighbours K                  k of the k-NN classifier stored in the model (default 1)\n"
     "  --exclude-person P              leave one person out of the training set\n"
+    "  --actions a,b,...               train on these actions only\n"
     "  --jobs N                        samples processed in parallel (default 2)\n"
     "  --cache DIR                     frame descriptor cache (default ~/.ros/action_flow/cache)\n";
 }  // namespace
