@@ -38,3 +38,48 @@ install(TARGETS action_flow_ros action_flow_nodelets action_flow_driver action_f
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(FILES nodelets.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(DIRECTORY launch config DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+  find_package(roslaunch REQUIRED)
+  # Every launch file parses, its args resolve, and every package it names exists.
+  roslaunch_add_file_check(launch/pipeline.launch)
+  roslaunch_add_file_check(launch/kinect.launch)
+  roslaunch_add_file_check(launch/bag.launch)
+  roslaunch_add_file_check(launch/bag.launch input:=images)
+  roslaunch_add_file_check(launch/bag.launch bag:=some.bag)
+
+  # The classifier's test models, written through the core's ActionModel::save.
+  add_executable(make_test_model EXCLUDE_FROM_ALL test/ros/make_test_model.cpp)
+  target_link_libraries(make_test_model action_flow_core)
+  set(ACTION_FLOW_TEST_MODELS ${CMAKE_BINARY_DIR}/test_models)
+  add_custom_command(OUTPUT ${ACTION_FLOW_TEST_MODELS}/two_actions.afm ${ACTION_FLOW_TEST_MODELS}/corrupt.afm
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${ACTION_FLOW_TEST_MODELS}
+    COMMAND make_test_model ${ACTION_FLOW_TEST_MODELS}
+    DEPENDS make_test_model
+    COMMENT "Writing the classifier's test models")
+  add_custom_target(action_flow_test_models DEPENDS ${ACTION_FLOW_TEST_MODELS}/two_actions.afm)
+  add_dependencies(tests action_flow_test_models)
+
+  add_executable(test_load_all EXCLUDE_FROM_ALL test/ros/test_load_all.cpp)
+  target_link_libraries(test_load_all ${catkin_LIBRARIES} gtest)
+  add_executable(test_stages EXCLUDE_FROM_ALL test/ros/test_stages.cpp)
+  target_link_libraries(test_stages action_flow_ros ${catkin_LIBRARIES} gtest)
+  add_dependencies(tests test_load_all test_stages)
+
+  set(ACTION_FLOW_MODEL_ARGS model:=${ACTION_FLOW_TEST_MODELS}/two_actions.afm
+                             corrupt_model:=${ACTION_FLOW_TEST_MODELS}/corrupt.afm)
+  add_rostest(test/ros/load_all.test DEPENDENCIES test_load_all)
+  add_rostest(test/ros/flow.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/flow_reset.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/flow_bad_input.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/descriptor.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/classifier_segmented.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/classifier_online.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/classifier_bad_model.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/lazy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/zero_copy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/zero_copy_detects_copy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/driver_dummy.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/driver_absent.test DEPENDENCIES test_stages)
+endif()
