@@ -63,13 +63,16 @@ if(CATKIN_ENABLE_TESTING)
 
   add_executable(test_load_all EXCLUDE_FROM_ALL test/ros/test_load_all.cpp)
   target_link_libraries(test_load_all ${catkin_LIBRARIES} gtest)
-  add_executable(test_stages EXCLUDE_FROM_ALL test/ros/test_stages.cpp)
+  add_executable(test_stages EXCLUDE_FROM_ALL test/ros/test_stages.cpp test/ros/test_scene.cpp)
   target_link_libraries(test_stages action_flow_ros ${catkin_LIBRARIES} gtest)
   add_dependencies(tests test_load_all test_stages)
 
   set(ACTION_FLOW_MODEL_ARGS model:=${ACTION_FLOW_TEST_MODELS}/two_actions.afm
                              corrupt_model:=${ACTION_FLOW_TEST_MODELS}/corrupt.afm)
   add_rostest(test/ros/load_all.test DEPENDENCIES test_load_all)
+  add_rostest(test/ros/tracker.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/tracker_fixed_frame.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/tracker_bad_input.test DEPENDENCIES test_stages)
   add_rostest(test/ros/flow.test DEPENDENCIES test_stages)
   add_rostest(test/ros/flow_reset.test DEPENDENCIES test_stages)
   add_rostest(test/ros/flow_bad_input.test DEPENDENCIES test_stages)

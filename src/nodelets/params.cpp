@@ -66,6 +66,18 @@ TrackerParams readTrackerParams(const ros::NodeHandle& nh)
     p.ground = Eigen::Vector4f(ground[0], ground[1], ground[2], ground[3]);
   }
   nh.param("hog_classifier_file", p.hog_classifier_file, p.hog_classifier_file);
+  readFloat(nh, "hog_min_confidence", p.hog_min_confidence);
+  std::vector<double> up;
+  if (nh.getParam("up_hint", up))
+  {
+    if (up.size() != 3)
+      throw std::invalid_argument("parameter up_hint must have 3 values x,y,z, has " + std::to_string(up.size()));
+    p.up_hint = Eigen::Vector3f(up[0], up[1], up[2]);
+  }
+  readFloat(nh, "ground_max_angle", p.ground_max_angle);
+  readFloat(nh, "ground_min_area", p.ground_min_area);
+  nh.param("assume_ground_below_points", p.assume_ground_below_points, p.assume_ground_below_points);
+  readFloat(nh, "min_head_distance", p.min_head_distance);
   readFloat(nh, "gate", p.gate);
   nh.param("lost_after", p.lost_after, p.lost_after);
   nh.param("confirm_after", p.confirm_after, p.confirm_after);

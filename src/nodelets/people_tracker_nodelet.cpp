@@ -17,24 +17,29 @@ namespace action_flow
 /**
  * Subscribes `cloud` (pcl::PointCloud<pcl::PointXYZRGB>); publishes `person_clouds`
  * (PeopleClouds) and `people` (TrackedPeople). Parameters (private): the TrackerParams members
- * (`ground` as a,b,c,d fixes the ground plane), `fixed_frame` (empty: work in the camera frame;
- * else clouds are transformed into it with tf2, e.g. odom on a moving robot), `tf_timeout` (s).
+ * (`ground` as a,b,c,d fixes the ground plane, `up_hint` as x,y,z), `fixed_frame` (empty: work in
+ * the camera frame; else clouds are transformed into it with tf2, e.g. odom on a moving robot, and
+ * up_hint defaults to +z there), `tf_timeout` (s).
  */
 class PeopleTrackerNodelet : public LazyNodelet
 {
   void onInit() override
   {
     ros::NodeHandle& pnh = getPrivateNodeHandle();
+    pnh.param("fixed_frame", fixed_frame_, fixed_frame_);
     try
     {
-      tracker_ = std::make_unique<PeopleTracker>(readTrackerParams(pnh));
+      TrackerParams params = readTrackerParams(pnh);
+      // A fixed frame such as odom or map is z-up (REP 103), unlike the camera's optical frame.
+      if (!fixed_frame_.empty() && !pnh.hasParam("up_hint"))
+        params.up_hint = Eigen::Vector3f::UnitZ();
+      tracker_ = std::make_unique<PeopleTracker>(params);
     }
     catch (const std::exception& e)
     {
       NODELET_ERROR("bad tracker parameters (%s): using the defaults", e.what());
       tracker_ = std::make_unique<PeopleTracker>();
     }
-    pnh.param("fixed_frame", fixed_frame_, fixed_frame_);
     pnh.param("tf_timeout", tf_timeout_, tf_timeout_);
     if (!fixed_frame_.empty() && fixed_frame_[0] == '/')
       fixed_frame_.erase(0, 1);

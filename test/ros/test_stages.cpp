@@ -2,6 +2,7 @@
 // each stage alone on hand-built input, lazy subscription, zero copy, the Dummy driver, bad input.
 // This node is another process, so everything it reads or writes went through serialization.
 #include "test_helpers.h"
+#include "test_scene.h"
 
 #include <action_flow/ActionLabel.h>
 #include <action_flow/Classify.h>
@@ -17,6 +18,8 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_msgs/String.h>
+#include <tf2_ros/static_transform_broadcaster.h>
+#include <action_flow/TrackedPeople.h>
 
 #include <cmath>
 #include <sstream>
@@ -91,6 +94,95 @@ bool waitForSubscriber(const ros::Publisher& pub)
   return waitFor([&] { return pub.getNumSubscribers() > 0; }, 10.0);
 }
 }  // namespace
+
+// ---- people tracker alone ------------------------------------------------------------------------
+namespace
+{
+/** The person of the test scene: one track, its height and place (camera frame unless @p odom). */
+void expectTheScenePerson(const Collector<TrackedPeople>& people, bool odom)
+{
+  const auto m = people.messages();
+  ASSERT_GE(m.size(), 10u);
+  std::set<std::uint32_t> ids;
+  for (std::size_t i = m.size() - 5; i < m.size(); ++i)
+  {
+    EXPECT_EQ(m[i]->header.frame_id, odom ? "odom" : "camera_rgb_optical_frame");
+    EXPECT_TRUE(m[i]->ground_valid);
+    ASSERT_EQ(m[i]->people.size(), 1u) << "message " << i;
+    const auto& p = m[i]->people[0];
+    ids.insert(p.id);
+    EXPECT_NEAR(p.height, test::kPersonHeight, 0.15);
+    if (odom)  // camera 1.2 m above the odom origin looking along +x
+    {
+      EXPECT_NEAR(p.position.x, 2.5, 0.25);
+      EXPECT_NEAR(p.position.y, 0.0, 0.25);
+    }
+    else
+    {
+      EXPECT_NEAR(p.position.x, 0.0, 0.25);
+      EXPECT_NEAR(p.position.z, 2.5, 0.25);
+    }
+  }
+  EXPECT_EQ(ids.size(), 1u) << "the track id changed";
+}
+}  // namespace
+
+TEST(Tracker, HandBuiltSceneGivesOneTrackedPerson)
+{
+  ros::NodeHandle nh;
+  Collector<TrackedPeople> people(nh, "people");
+  Collector<PeopleClouds> clouds(nh, "person_clouds");
+  ASSERT_TRUE(people.waitForCount(15, 20.0)) << "the tracker published " << people.size() << " messages";
+  expectTheScenePerson(people, false);
+  ASSERT_GT(clouds.size(), 0u);
+  const auto last = clouds.messages().back();
+  ASSERT_EQ(last->people.size(), 1u);
+  ASSERT_TRUE(last->people[0].cloud);
+  EXPECT_GT(last->people[0].cloud->size(), 500u);
+}
+
+TEST(Tracker, FixedFrameExpressesPeopleInIt)
+{
+  ros::NodeHandle nh;
+  tf2_ros::StaticTransformBroadcaster broadcaster;
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros::Time::now();
+  t.header.frame_id = "odom";
+  t.child_frame_id = "camera_rgb_optical_frame";
+  t.transform.translation.z = 1.2;
+  // optical axes in odom: x = -y_odom, y = -z_odom, z = +x_odom
+  t.transform.rotation.x = -0.5;
+  t.transform.rotation.y = 0.5;
+  t.transform.rotation.z = -0.5;
+  t.transform.rotation.w = 0.5;
+  broadcaster.sendTransform(t);
+  Collector<TrackedPeople> people(nh, "people");
+  ASSERT_TRUE(people.waitForCount(15, 20.0)) << "the tracker published " << people.size() << " messages";
+  expectTheScenePerson(people, true);
+}
+
+TEST(Tracker, BadCloudsAreReportedAndTheTrackerKeepsServing)
+{
+  ros::NodeHandle nh;
+  LogWatch no_transform(nh, "no transform from 'no_such_frame'", rosgraph_msgs::Log::ERROR);
+  Collector<TrackedPeople> empty(nh, "empty/people"), nan(nh, "nan/people"), unorganized(nh, "unorganized/people"),
+      floorless(nh, "floorless/people"), wrong(nh, "wrong_frame/people"), back(nh, "time_back/people");
+  for (auto* c : { &empty, &nan, &floorless })
+    EXPECT_TRUE(c->waitForCount(5, 20.0)) << "a tracker stopped on bad input";
+  for (auto* c : { &empty, &nan })
+    for (const auto& m : c->messages())
+      EXPECT_TRUE(m->people.empty());
+  // Without NaN placeholders the same scene still shows its person.
+  EXPECT_TRUE(waitFor([&] { const auto m = unorganized.messages(); return !m.empty() && m.back()->people.size() == 1; }, 20.0))
+      << "no person in the unorganized scene";
+  EXPECT_TRUE(waitFor([&] { return no_transform.count() > 0; }, 10.0)) << "no clear error for an unknown frame";
+  EXPECT_EQ(wrong.size(), 0u) << "clouds in an unknown frame were used";
+  bool reset = false;
+  waitFor([&] { for (const auto& m : back.messages()) reset = reset || m->reset; return reset; }, 20.0);
+  EXPECT_TRUE(reset) << "time going back did not reset the tracker";
+  const std::size_t before = back.size();
+  EXPECT_TRUE(back.waitForCount(before + 3, 5.0)) << "the tracker stopped after time went back";
+}
 
 // ---- flow stage alone ----------------------------------------------------------------------------
 TEST(Flow, WavingForearmGivesFlowOnTheForearm)
