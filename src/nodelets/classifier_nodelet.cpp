@@ -59,12 +59,12 @@ class ClassifierNodelet : public LazyNodelet
     pnh.param("max_arrows", max_arrows_, max_arrows_);
     loadModel(pnh);
 
-    labels_pub_ = advertiseLazy<ActionLabel>("labels", 20);
-    states_pub_ = advertiseLazy<ActionStates>("states", 10);
-    markers_pub_ = advertiseLazy<visualization_msgs::MarkerArray>("markers", 5);
     setSubscribe([this] {
       return getNodeHandle().subscribe("descriptors", 20, &ClassifierNodelet::onDescriptors, this);
     });
+    labels_pub_ = advertiseLazy<ActionLabel>("labels", 20);
+    states_pub_ = advertiseLazy<ActionStates>("states", 10);
+    markers_pub_ = advertiseLazy<visualization_msgs::MarkerArray>("markers", 5);
     service_ = pnh.advertiseService("classify", &ClassifierNodelet::onClassify, this);
     if (!online_)
       timer_ = getNodeHandle().createWallTimer(ros::WallDuration(0.2), &ClassifierNodelet::onTimer, this);

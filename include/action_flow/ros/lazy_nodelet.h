@@ -19,7 +19,10 @@ namespace action_flow
 class LazyNodelet : public nodelet::Nodelet
 {
 protected:
-  /** @brief Advertises @p topic on the public handle with the connect callback that (un)subscribes. */
+  /**
+   * @brief Advertises @p topic on the public handle with the connect callback that (un)subscribes.
+   *        Call setSubscribe first: a listener may already be waiting.
+   */
   template <class M>
   ros::Publisher advertiseLazy(const std::string& topic, int queue, bool latch = false)
   {
@@ -47,6 +50,11 @@ private:
   {
     std::lock_guard<std::mutex> lock(connect_mutex_);
     const bool wanted = anyoneListening();
+    if (!subscribe_)
+    {
+      NODELET_ERROR("bug: an output was advertised before the input subscription was set up");
+      return;
+    }
     if (wanted && !input_)
     {
       input_ = subscribe_();
