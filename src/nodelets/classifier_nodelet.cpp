@@ -310,6 +310,10 @@ class ClassifierNodelet : public LazyNodelet
         }
         markers->markers.push_back(m);
       }
+    std::map<std::uint32_t, Eigen::Vector3f> up;  // each person's up axis, when the flow is at hand
+    if (in.source)
+      for (const auto& p : in.source->people)
+        up[p.info.id] = p.info.frame.axes.col(1);
     for (const auto& d : in.descriptors)
     {
       auto m = base("label", d.track_id, visualization_msgs::Marker::TEXT_VIEW_FACING);
@@ -317,7 +321,13 @@ class ClassifierNodelet : public LazyNodelet
       const std::string label = it == sequences_.end() || it->second.published.empty() ? "?" : it->second.published;
       m.text = std::to_string(d.track_id) + ": " + label;
       m.pose.position = d.head;
-      // Above the head whichever way "up" is: the head point is the top of the person already.
+      const auto u = up.find(d.track_id);
+      if (u != up.end())  // 0.2 m above the top of the head
+      {
+        m.pose.position.x += 0.2 * u->second.x();
+        m.pose.position.y += 0.2 * u->second.y();
+        m.pose.position.z += 0.2 * u->second.z();
+      }
       m.scale.z = 0.15;
       m.color.r = m.color.g = m.color.b = m.color.a = 1.0;
       markers->markers.push_back(m);

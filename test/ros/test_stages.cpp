@@ -18,6 +18,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_msgs/String.h>
+#include <visualization_msgs/MarkerArray.h>
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <action_flow/TrackedPeople.h>
 
@@ -510,6 +511,42 @@ TEST(ZeroCopy, TheProbeSeesACopyWhenAStageRunsInAnotherProcess)
   };
   EXPECT_TRUE(waitFor([&] { return copies() >= 10; }, 20.0))
       << (report.size() ? report.messages().back()->data : "no report");
+}
+
+// ---- rviz markers ----------------------------------------------------------------------------------
+TEST(Markers, FlowArrowsOnTheForearmAndTheLabelAboveTheHead)
+{
+  ros::NodeHandle nh;
+  Collector<visualization_msgs::MarkerArray> markers(nh, "markers");
+  bool arrows = false, label = false;
+  const Eigen::Vector3f elbow(0.45f, 0.06f, 2.5f);
+  waitFor(
+      [&] {
+        for (const auto& a : markers.messages())
+          for (const auto& m : a->markers)
+          {
+            EXPECT_EQ(m.header.frame_id, "camera_rgb_optical_frame");
+            if (m.ns == "flow" && m.type == visualization_msgs::Marker::LINE_LIST && m.points.size() >= 2)
+            {
+              arrows = true;
+              EXPECT_EQ(m.points.size() % 2, 0u);
+              EXPECT_LT((Eigen::Vector3f(m.points[0].x, m.points[0].y, m.points[0].z) - elbow).norm(), 0.5f)
+                  << "a flow arrow off the forearm";
+            }
+            if (m.ns == "label" && m.type == visualization_msgs::Marker::TEXT_VIEW_FACING)
+            {
+              label = true;
+              EXPECT_EQ(m.text.rfind(std::to_string(m.id) + ": ", 0), 0u) << m.text;
+              // the head's top is 1.75 - 1.2 = 0.55 m above the camera (y down); the label 0.2 m higher
+              EXPECT_NEAR(m.pose.position.y, -0.75, 0.15);
+              EXPECT_NEAR(m.pose.position.z, 2.5, 0.3);
+            }
+          }
+        return arrows && label;
+      },
+      20.0);
+  EXPECT_TRUE(arrows) << "no flow arrows";
+  EXPECT_TRUE(label) << "no label marker";
 }
 
 // ---- driver ----------------------------------------------------------------------------------------
