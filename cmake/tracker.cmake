@@ -1,5 +1,10 @@
 # People tracker core (ROS-free): its own library on top of action_flow_core and PCL's people module.
+# PCL's people component is looked up on its own; PCL_LIBRARIES is restored afterwards so that
+# the parts included after this one see what the top CMakeLists found.
+set(_action_flow_pcl_libraries ${PCL_LIBRARIES})
 find_package(PCL REQUIRED COMPONENTS people)
+set(ACTION_FLOW_PCL_PEOPLE_LIBRARIES ${PCL_LIBRARIES})
+set(PCL_LIBRARIES ${_action_flow_pcl_libraries})
 
 add_library(action_flow_tracker
   src/core/people_tracker.cpp
@@ -7,7 +12,7 @@ add_library(action_flow_tracker
   src/core/tracker_ground.cpp
   src/core/tracker_assignment.cpp
 )
-target_link_libraries(action_flow_tracker action_flow_core ${PCL_LIBRARIES})
+target_link_libraries(action_flow_tracker action_flow_core ${ACTION_FLOW_PCL_PEOPLE_LIBRARIES} ${PCL_LIBRARIES})
 
 # Benchmark: per-frame time on the real 640x480 clouds (reads bags, so it links catkin's rosbag).
 add_executable(tracker_benchmark test/tracker/tracker_benchmark.cpp)

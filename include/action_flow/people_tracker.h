@@ -51,6 +51,9 @@ struct TrackerParams
   int confirm_after = 2;
 
   // ---- added with the implementation (defaults follow pcl::people where it has one) ----
+  /** Organized clouds: only every n-th row and column feed the detection voxel grid (pcl::people's
+   *  sampling factor; at 0.06 m voxels 2 loses nothing beyond 1 m). Person clouds use every point. */
+  int sampling_factor = 2;
   /** Roughly "up" in the input frame, used to look for the ground (the camera's -y by default;
    *  e.g. (0,0,1) for clouds already in a z-up fixed frame such as odom). Need not be exact. */
   Eigen::Vector3f up_hint = Eigen::Vector3f(0, -1, 0);

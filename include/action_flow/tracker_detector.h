@@ -63,9 +63,6 @@ public:
   /** @brief Forgets the ground estimate. */
   void reset();
 
-  /** @brief Full ground searches so far (the rest of the frames refined the plane). */
-  int groundSearches() const;
-
 private:
   struct Impl;
   TrackerParams params_;

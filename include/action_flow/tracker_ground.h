@@ -49,6 +49,7 @@ struct GroundParams
  * recordings). Then, if assume_below_points, the ground is taken perpendicular to the last
  * normal (else the up hint) through the lowest points, provided enough of them lie at that level
  * (feet, chair legs, furniture bases) over a wide enough area; assumed() tells this case.
+ * While the ground is assumed, the plane search is retried every 10th update only.
  */
 class GroundEstimator
 {
@@ -88,6 +89,7 @@ private:
   bool valid_ = false;
   bool assumed_ = false;
   int searches_ = 0;
+  int since_search_ = 0;
 };
 
 /** @brief Signed height of @p p above @p plane (unit normal). */

@@ -65,6 +65,7 @@ void validateTrackerParams(const TrackerParams& p)
           "ground_tolerance must be positive and below min_height");
   require(std::isfinite(p.cluster_tolerance) && p.cluster_tolerance > 0, "cluster_tolerance must be positive");
   require(p.min_points >= 1, "min_points must be at least 1");
+  require(p.sampling_factor >= 1 && p.sampling_factor <= 8, "sampling_factor must be in [1, 8]");
   if (p.fixed_ground)
     require(p.ground.allFinite() && p.ground.head<3>().norm() > 1e-6f, "ground must be a finite plane with a normal");
   require(std::isfinite(p.gate) && p.gate > 0, "gate must be positive");
@@ -192,11 +193,6 @@ void PeopleDetector::reset()
   impl_->ground.reset();
 }
 
-int PeopleDetector::groundSearches() const
-{
-  return impl_->ground.searches();
-}
-
 DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f& origin)
 {
   DetectionResult out;
@@ -205,16 +201,22 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
 
   // ---- finite points in range, voxelised ----
   const float range2 = params_.max_range * params_.max_range;
-  pcl::IndicesPtr valid(new pcl::Indices);
+  pcl::IndicesPtr valid(new pcl::Indices);  // every usable point (for the person clouds)
+  pcl::IndicesPtr sampled(new pcl::Indices);  // those that feed the detection voxels
   valid->reserve(cloud.size());
+  const std::size_t step = cloud.height > 1 ? static_cast<std::size_t>(params_.sampling_factor) : 1;
   for (std::size_t i = 0; i < cloud.size(); ++i)
   {
     const PointT& p = cloud[i];
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
         (p.getVector3fMap() - origin).squaredNorm() <= range2)
+    {
       valid->push_back(static_cast<pcl::index_t>(i));
+      if (step == 1 || ((i % cloud.width) % step == 0 && (i / cloud.width) % step == 0))
+        sampled->push_back(static_cast<pcl::index_t>(i));
+    }
   }
-  if (valid->size() < 3)
+  if (sampled->size() < 3)
   {
     out.ground_valid = params_.fixed_ground || impl_->ground.valid();
     out.ground_assumed = !params_.fixed_ground && impl_->ground.assumed();
@@ -227,7 +229,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   {
     pcl::VoxelGrid<PointT> grid;
     grid.setInputCloud(borrow(cloud));
-    grid.setIndices(valid);
+    grid.setIndices(sampled);
     const float leaf = params_.detection_voxel_size;
     grid.setLeafSize(leaf, leaf, leaf);
     grid.filter(*voxels);

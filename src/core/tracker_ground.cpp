@@ -51,6 +51,11 @@ float pointsPerCell(const Cloud& cloud, const pcl::Indices& indices, const Eigen
   return cells.empty() ? 0.0f : static_cast<float>(indices.size()) / static_cast<float>(cells.size());
 }
 
+// Points RANSAC scores its plane hypotheses on.
+constexpr std::size_t kRansacSample = 800;
+// With an assumed ground (no floor seen), the plane search is retried only every this many updates.
+constexpr int kAssumedRetry = 10;
+
 float angleBetween(const Eigen::Vector3f& a, const Eigen::Vector3f& b)
 {
   return std::acos(std::max(-1.0f, std::min(1.0f, a.normalized().dot(b.normalized()))));
@@ -73,8 +78,14 @@ bool GroundEstimator::update(const Cloud& cloud, const Eigen::Vector3f& camera, 
     return false;
   if (valid_ && !assumed_ && refine(cloud, camera))
     return true;
-  if (search(cloud, camera, up_hint.normalized()))
-    return true;
+  // No floor in sight: looking for one in every frame would cost a full search each time.
+  const bool retry = !(valid_ && assumed_) || ++since_search_ >= kAssumedRetry;
+  if (retry)
+  {
+    since_search_ = 0;
+    if (search(cloud, camera, up_hint.normalized()))
+      return true;
+  }
   if (!params_.assume_below_points)
     return false;
   // Keep the orientation of a floor seen before (the camera's tilt), else trust the hint.
@@ -168,20 +179,28 @@ bool GroundEstimator::search(const Cloud& cloud, const Eigen::Vector3f& camera, 
   float best_height = 0.0f;
   for (int k = 0; k < params_.max_candidates && remaining.size() >= static_cast<std::size_t>(params_.min_inliers); ++k)
   {
-    auto model = pcl::make_shared<pcl::SampleConsensusModelPerpendicularPlane<PointT>>(ptr, remaining);
+    // RANSAC scores its hypotheses on an even subsample (scoring is its whole cost); the winner's
+    // inliers are then taken from all remaining points.
+    pcl::Indices sample;
+    const std::size_t stride = std::max<std::size_t>(1, remaining.size() / kRansacSample);
+    for (std::size_t i = 0; i < remaining.size(); i += stride)
+      sample.push_back(remaining[i]);
+    auto model = pcl::make_shared<pcl::SampleConsensusModelPerpendicularPlane<PointT>>(ptr, sample);
     model->setAxis(up);
     model->setEpsAngle(params_.max_angle);
     pcl::RandomSampleConsensus<PointT> ransac(model, params_.inlier_distance);
     ransac.setMaxIterations(500);
+    ransac.setNumberOfThreads(1);  // the nodelets share the cores; no OpenMP pool per frame
     if (!ransac.computeModel())
       break;
-    pcl::Indices inliers;
     Eigen::VectorXf coeffs, refined;
-    ransac.getInliers(inliers);
+    ransac.getModelCoefficients(coeffs);
+    auto all = pcl::make_shared<pcl::SampleConsensusModelPlane<PointT>>(ptr, remaining);
+    pcl::Indices inliers;
+    all->selectWithinDistance(coeffs, params_.inlier_distance, inliers);
     if (inliers.size() < static_cast<std::size_t>(params_.min_inliers))
       break;
-    ransac.getModelCoefficients(coeffs);
-    model->optimizeModelCoefficients(inliers, coeffs, refined);
+    all->optimizeModelCoefficients(inliers, coeffs, refined);
     Eigen::Vector4f plane = refined.head<4>();
     // The candidate's points leave the pool whether or not it qualifies, so the next round finds another plane.
     std::vector<char> used(cloud.size(), 0);

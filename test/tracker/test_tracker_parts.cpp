@@ -122,6 +122,10 @@ TEST(GroundEstimator, TiltedFloorAndAFloorlessCloud)
   GroundEstimator g;
   ASSERT_TRUE(g.update(c, Eigen::Vector3f::Zero(), Eigen::Vector3f(0, -1, 0)));
   EXPECT_TRUE(g.plane().isApprox(Eigen::Vector4f(up.x(), up.y(), up.z(), 1.1f), 1e-3f)) << g.plane().transpose();
+  EXPECT_EQ(g.searches(), 1);
+  // The next frames refine the plane found instead of searching again.
+  ASSERT_TRUE(g.update(c, Eigen::Vector3f::Zero(), Eigen::Vector3f(0, -1, 0)));
+  EXPECT_EQ(g.searches(), 1);
 
   // A single upright box floating in space: no floor, and no bottom level wide enough to assume one.
   Cloud box;
@@ -266,6 +270,7 @@ TEST(TrackerBadInput, BadParametersThrow)
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.ground_tolerance = 0; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.cluster_tolerance = -1; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.min_points = 0; })), std::invalid_argument);
+  EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.sampling_factor = 0; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) {
                  p.fixed_ground = true;
                  p.ground = Eigen::Vector4f(0, 0, 0, 1);
