@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <sys/stat.h>
@@ -78,7 +79,8 @@ std::string confusionCsv(const Confusion& c)
 
 std::string plotScript()
 {
-  const std::string pkg = ros::package::getPath("action_flow");
+  // Ask rospack only inside a ROS environment; outside it, the build's source folder.
+  const std::string pkg = std::getenv("ROS_PACKAGE_PATH") ? ros::package::getPath("action_flow") : "";
   return (pkg.empty() ? std::string(ACTION_FLOW_SOURCE_DIR) : pkg) + "/scripts/plot_report.py";
 }
 }  // namespace
