@@ -27,7 +27,9 @@ def main():
         if not os.path.isfile(path):
             sys.exit(f"label_bag: {what} file '{path}' does not exist")
 
-    env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{args.port}")
+    # Debian's ROS nodes start with "#!/usr/bin/env python3": the system Python must come first.
+    env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{args.port}",
+               PATH="/usr/bin:/bin:" + os.environ.get("PATH", ""))
     cmd = ["roslaunch", "-p", str(args.port), "action_flow", "bag.launch", f"bag:={args.bag}",
            f"model:={args.model}", f"input:={args.input}", "mode:=segmented", "echo_labels:=true"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,

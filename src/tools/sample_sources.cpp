@@ -1,5 +1,7 @@
 #include "sample_sources.h"
 
+#include "guarded_bag.h"
+
 #include <action_flow/depth_cloud.h>
 
 #include <pcl_conversions/pcl_conversions.h>
@@ -32,19 +34,19 @@ public:
   {
     try
     {
-      bag_.open(path, rosbag::bagmode::Read);
+      bag_ = std::make_unique<GuardedBag>(path, rosbag::bagmode::Read);
     }
     catch (const rosbag::BagException& e)
     {
       throw DatasetError(path + ": cannot open bag (" + e.what() + ")");
     }
-    rosbag::View probe(bag_, rosbag::TopicQuery(std::vector<std::string>{ topics_.points }));
+    rosbag::View probe(**bag_, rosbag::TopicQuery(std::vector<std::string>{ topics_.points }));
     use_points_ = probe.size() > 0;
     const std::vector<std::string> wanted =
         use_points_ ? std::vector<std::string>{ topics_.points } :
                       std::vector<std::string>{ topics_.depth, topics_.rgb, topics_.depth + "/compressed",
                                                 topics_.rgb + "/compressed", topics_.info };
-    view_ = std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(wanted));
+    view_ = std::make_unique<rosbag::View>(**bag_, rosbag::TopicQuery(wanted));
     if (view_->size() == 0)
       throw DatasetError(path + ": bag has neither " + topics_.points + " nor " + topics_.depth + " + " + topics_.rgb);
     it_ = view_->begin();
@@ -177,7 +179,7 @@ private:
 
   std::string path_;
   BagTopics topics_;
-  rosbag::Bag bag_;
+  std::unique_ptr<GuardedBag> bag_;  // destroyed after the view (members go in reverse order)
   std::unique_ptr<rosbag::View> view_;
   rosbag::View::iterator it_;
   bool use_points_ = false;

@@ -1,6 +1,8 @@
 // Bags in the layout of the 2012-13 ROS OpenNI driver, image encoding, previews.
 #include "synth_bag.h"
 
+#include "guarded_bag.h"
+
 #include <geometry_msgs/TransformStamped.h>
 #include <pcl_conversions/pcl_conversions.h>
 #include <rosbag/bag.h>
@@ -128,8 +130,8 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
   const int w = cam.width, h = cam.height;
   try
   {
-    rosbag::Bag bag;
-    bag.open(tmp, rosbag::bagmode::Write);
+    tools::GuardedBag guarded(tmp, rosbag::bagmode::Write);
+    rosbag::Bag& bag = *guarded;
     bag.setCompression(compression);
 
     sensor_msgs::CameraInfo info;
