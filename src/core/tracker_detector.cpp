@@ -36,9 +36,12 @@ std::uint64_t voxelKey(const PointT& p, float inverse_leaf)
   return (part(p.x) << 42) | (part(p.y) << 21) | part(p.z);
 }
 
-// Mean number of points (itself included) within the clustering tolerance of a person's voxel,
-// at least: about 12 on a surface voxelised at a third of the tolerance, 1-3 for scattered points.
-constexpr float kMinSurfaceNeighbours = 5.0f;
+// A person is a surface: its voxels have on average at least this many points (themselves
+// included) within the clustering tolerance. A surface voxelised at half the tolerance gives about
+// 12, scattered points 1-3.
+constexpr int kSurfaceNeighbours = 5;
+// Points higher than this above max_height are dropped before clustering (m).
+constexpr float kAboveHeads = 0.5f;
 
 void require(bool ok, const char* what)
 {
@@ -279,7 +282,10 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   level->reserve(voxels->size());
   for (const auto& p : voxels->points)
   {
-    if (heightAbove(ground, p.getVector3fMap()) <= params_.ground_tolerance)
+    // Far above any head (ceilings, upper walls) nothing can be a person; cut there, the height
+    // limits still reject whatever reaches the cut.
+    const float h = heightAbove(ground, p.getVector3fMap());
+    if (h <= params_.ground_tolerance || h > params_.max_height + kAboveHeads)
       continue;
     above->push_back(p);
     PointT q = p;
@@ -291,7 +297,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
 
   // ---- Euclidean clusters ----
   std::vector<pcl::PointIndices> clusters;
-  auto tree = pcl::make_shared<pcl::search::KdTree<PointT>>();
+  auto tree = pcl::make_shared<pcl::search::KdTree<PointT>>(false);  // unsorted neighbours: cheaper
   {
     tree->setInputCloud(level);
     pcl::EuclideanClusterExtraction<PointT> ec;
@@ -369,10 +375,12 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   {
     if (static_cast<int>(idx.size()) < params_.min_points)
       continue;
+    // Counting stops at twice the threshold: enough to tell, and the searches stay short.
     std::size_t around = 0;
     for (const auto i : idx)
-      around += static_cast<std::size_t>(tree->radiusSearch((*level)[i], params_.cluster_tolerance, neighbours, distances));
-    if (static_cast<float>(around) < kMinSurfaceNeighbours * static_cast<float>(idx.size()))
+      around += static_cast<std::size_t>(
+          tree->radiusSearch((*level)[i], params_.cluster_tolerance, neighbours, distances, 2 * kSurfaceNeighbours));
+    if (around < static_cast<std::size_t>(kSurfaceNeighbours) * idx.size())
       continue;
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo, sum = Eigen::Vector3f::Zero();
     float top = -1e9f;

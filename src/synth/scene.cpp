@@ -501,6 +501,11 @@ void SceneRenderer::Impl::buildPrims(const PosedBody& body, std::vector<Prim>& p
             Eigen::Vector3f(0.1f * b * b * sc, 0.155f * b * sc, 0.28f * trunk_len), neck);
   ellipsoid(Part::Pelvis, pelvis + hips.col(2) * (0.03f * sc), hips,
             Eigen::Vector3f(0.105f * b * sc, 0.175f * b * sc, 0.13f * sc), pelvis);
+  // Shoulder girdle: fills the line between the shoulders, textured in the trunk's frame so the
+  // shirt's pattern runs on from the chest.
+  Prim* girdle = capsule(Part::Chest, s[Joint::LeftShoulder], s[Joint::RightShoulder], 0.06f * b * sc);
+  girdle->rot = trunk;
+  girdle->origin = neck;
   const Eigen::Matrix3f head_rot = axisFrame(head - neck, fwd);
   ellipsoid(Part::Head, head + head_rot.col(2) * (0.01f * sc), head_rot,
             Eigen::Vector3f(0.1f * sc, 0.08f * sc, 0.115f * sc), head);
@@ -666,7 +671,7 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
   out.rgb = m.room_rgb;
   out.mask.assign(n, 0);
   std::vector<Prim> prims;
-  prims.reserve(20 * bodies.size());
+  prims.reserve(24 * bodies.size());  // 18 a body; capsule() hands out pointers into it
   for (const PosedBody& body : bodies)
     m.buildPrims(body, prims);
   for (const Prim& p : prims)

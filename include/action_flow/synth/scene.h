@@ -142,7 +142,7 @@ struct FrameImages
  * @brief Renders a static room plus posed bodies as a Kinect v1 sees them.
  *
  * The room is ray-cast once at construction (per camera pose); each frame only the body is
- * ray-cast inside the image boxes of its 17 volumes, then the sensor model is applied: disparity
+ * ray-cast inside the image boxes of its 18 volumes, then the sensor model is applied: disparity
  * noise and quantisation, the projector's shadow left of near edges, random dropout along depth
  * edges, range limits, colour noise. Noise is a pure function of (noise_seed, frame, pixel), so a
  * frame renders identically wherever and whenever it is rendered. const methods are thread-safe.
