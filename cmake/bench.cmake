@@ -9,3 +9,12 @@ add_executable(bench src/tools/bench.cpp)
 target_link_libraries(bench action_flow_bench action_flow_core)
 
 install(TARGETS bench RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  # Exactness of the flow's grid index and matcher against nanoflann and brute force, and the
+  # benchmark's parts (statistics, generated person, octree baseline agreeing with the core).
+  catkin_add_gtest(test_bench
+    test/bench/test_neighbour_grid.cpp
+    test/bench/test_bench_parts.cpp)
+  target_link_libraries(test_bench action_flow_bench action_flow_core gtest_main)
+endif()

@@ -18,6 +18,7 @@ namespace
 constexpr int kWidth = 640, kHeight = 480;
 constexpr float kF = 525.0f, kCx = 319.5f, kCy = 239.5f;
 constexpr float kPi = 3.14159265f;
+constexpr float kBaseline = 0.075f;  // projector-camera baseline (m)
 constexpr float kStep = 0.003f;  // surface sampling (m): finer than a pixel's footprint at 2.5 m (4.8 mm)
 
 // A deterministic hash of integers to [0,1): the fine grain of a texture, fixed to the surface.
@@ -229,7 +230,11 @@ void MovingPerson::render(int i, Cloud& organized, std::vector<std::uint8_t>* ma
         p.r = p.g = p.b = 0;
         continue;
       }
-      const float z = s.z + params_.depth_noise * s.z * s.z * gauss(rng);
+      // The Kinect measures disparity, in steps of 1/8 pixel, with noise: depth noise of
+      // depth_noise * z^2 standard deviation and quantisation steps that also grow with z^2.
+      const float fb = kF * kBaseline;
+      const float disparity = std::round((fb / s.z + params_.depth_noise * fb * gauss(rng)) * 8.0f) / 8.0f;
+      const float z = fb / disparity;
       p.x = (u - kCx) / kF * z;
       p.y = (v - kCy) / kF * z;
       p.z = z;

@@ -1,5 +1,6 @@
 #include "training_set.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -31,7 +32,12 @@ std::vector<DescriptorSequence> makeSequences(int count, int actions, int descri
   const int cubes = descriptor_size / 3;
   // The action patterns come from a fixed seed so that training and query sets share them.
   std::mt19937 pattern_rng(12345u);
-  std::uniform_int_distribution<int> cube(0, cubes - 1);
+  // Motion happens where limbs are: the grid's middle depth layers (for the paper's 4x4x4 grid the
+  // 32 cubes with z index 1 or 2); the front and back layers stay nearly empty, as on real data.
+  const int layer = std::max(1, cubes / 4);
+  const int first_cube = cubes >= 8 ? layer : 0, limb_cubes = cubes >= 8 ? 2 * layer : cubes;
+  std::uniform_int_distribution<int> limb(0, limb_cubes - 1);
+  auto cube = [&](std::mt19937& r) { return first_cube + limb(r); };
   std::normal_distribution<float> gauss(0.0f, 1.0f);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   auto randomDirection = [&](std::mt19937& r) {
@@ -77,7 +83,7 @@ std::vector<DescriptorSequence> makeSequences(int count, int actions, int descri
       const int noisy = static_cast<int>(unit(rng) * 4);
       for (int k = 0; k < noisy; ++k)
         d.segment<3>(3 * cube(rng)) += 0.15f * Eigen::Vector3f(gauss(rng), gauss(rng), gauss(rng));
-      d += 0.01f * Eigen::VectorXf::NullaryExpr(descriptor_size, [&]() { return gauss(rng); });
+      d += 0.003f * Eigen::VectorXf::NullaryExpr(descriptor_size, [&]() { return gauss(rng); });
       const float norm = d.norm();
       if (norm > 0.0f)
         d /= norm;
