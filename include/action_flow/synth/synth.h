@@ -1,0 +1,134 @@
+/**
+ * @file synth.h
+ * @brief Synthetic actors performing the IAS-Lab Action Dataset's 15 actions, and the MSR Action3D
+ *        skeletons, rendered by the virtual Kinect (scene.h) one sample at a time, in process.
+ *        ROS-free. This is the API the training, evaluation, benchmark and tracker tests use.
+ *
+ * Typical use:
+ * @code
+ *   for (const auto& spec : action_flow::synth::iasLabSamples()) {
+ *     action_flow::synth::SampleRenderer sample(spec);
+ *     action_flow::Cloud cloud;
+ *     std::vector<std::uint8_t> mask;
+ *     for (int i = 0; i < sample.frames(); ++i) {
+ *       sample.render(i, cloud, &mask);   // organized 640x480, camera_rgb_optical_frame, NaN = no depth
+ *       ... sample.stamp(i), sample.label(), sample.skeleton(i) ...
+ *     }
+ *   }
+ * @endcode
+ */
+#pragma once
+
+#include <action_flow/synth/scene.h>
+#include <action_flow/synth/skeleton.h>
+#include <action_flow/types.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+namespace synth
+{
+/** @brief The 15 IAS-Lab actions in snake_case, alphabetical: check_watch ... wave. */
+const std::vector<std::string>& iasLabActions();
+
+/** @brief One sample to render. */
+struct SampleSpec
+{
+  std::string dataset = "ias";  ///< "ias" (synthetic actors) or "msr" (MSR Action3D skeletons)
+  std::string person;           ///< "p01".."pNN" (ias) or "s01".."s10" (msr)
+  std::string action;           ///< an iasLabActions() name, or an msrActions() name
+  int repetition = 1;           ///< 1-based; the take for msr
+  std::uint64_t seed = 1;       ///< dataset seed: same seed, same actors and same frames
+  std::string skeleton_file;    ///< msr only: the skeleton file
+  /** Render only the first max_frames frames (0 = all); for tests and previews. */
+  int max_frames = 0;
+
+  /** @brief "p01_wave_1" / "a01_s01_e01": unique within a dataset, used as the bag's base name. */
+  std::string name() const;
+};
+
+/**
+ * @brief The IAS-Lab-style set: people x 15 actions x repetitions, ordered person, action, repetition.
+ * @throws std::invalid_argument if people is not in 1..99 or repetitions not in 1..99
+ */
+std::vector<SampleSpec> iasLabSamples(int people = 12, int repetitions = 3, std::uint64_t seed = 1);
+
+/**
+ * @brief The MSR Action3D set from a folder of aAA_sSS_eEE_skeleton3D.txt files, sorted by name.
+ *        With @p cvpr12_only and a files_used_in_cvpr12_paper.txt in the folder, only the 557
+ *        sequences it lists (the others include untracked or broken recordings).
+ * @throws std::runtime_error if the folder cannot be read or holds no skeleton file
+ */
+std::vector<SampleSpec> msrSamples(const std::string& folder, std::uint64_t seed = 1, bool cvpr12_only = true);
+
+/** @brief A synthetic person of the "ias" set: looks, body and style of moving. */
+struct Actor
+{
+  std::string id;          ///< "p01"
+  BodyShape shape;
+  Appearance appearance;
+  bool left_handed = false;
+  float pace = 1.0f;       ///< speed factor of every movement (>1 faster)
+  float amplitude = 1.0f;  ///< size factor of gestures
+  float sway = 1.0f;       ///< idle sway factor
+  std::uint64_t style_seed = 0;  ///< person-specific shape of the gestures
+};
+
+/** @brief The actor with this id ("p01".."p99") for this dataset seed; deterministic. */
+Actor makeActor(const std::string& id, std::uint64_t seed = 1);
+
+/**
+ * @brief Renders one sample: builds the actor (or reads the skeleton file), the motion, the camera
+ *        pose and the room at construction; then renders any frame on demand.
+ *
+ * Construction costs a few tens of milliseconds (motion and room ray-casting). All const methods
+ * are thread-safe; different renderers are independent. Output depends only on the spec.
+ */
+class SampleRenderer
+{
+public:
+  /**
+   * @throws std::invalid_argument on an unknown dataset, action or person id;
+   *         std::runtime_error from the MSR parser, or if an MSR file has no tracked frame
+   */
+  explicit SampleRenderer(const SampleSpec& spec, const CameraModel& camera = CameraModel());
+  ~SampleRenderer();
+
+  const SampleSpec& spec() const;
+  /** @brief The action label (the spec's action). */
+  const std::string& label() const;
+  int frames() const;
+  /** @brief Stamp of frame @p i in seconds: a fixed start (2013-01-01 UTC) + i / fps. */
+  double stamp(int i) const;
+
+  /**
+   * @brief Renders frame @p i as an organized cloud (width x height, camera_rgb_optical_frame, stamp in
+   *        pcl microseconds, NaN xyz where no depth, colour everywhere) and, if @p mask is given,
+   *        the person id per pixel (row-major, 1 = the actor, 0 = background; set where the person's
+   *        surface is seen, whether or not the sensor returned depth there).
+   * @throws std::out_of_range if i is not in [0, frames())
+   */
+  void render(int i, Cloud& out, std::vector<std::uint8_t>* mask = nullptr) const;
+  /** @brief Frame @p i as images (depth in metres, RGB, mask). */
+  void renderImages(int i, FrameImages& out) const;
+
+  /** @brief The 15 joints of frame @p i in the camera's optical frame (metres). */
+  Skeleton skeleton(int i) const;
+  /** @brief The 15 joints of frame @p i in the world frame (floor origin below the camera, z up). */
+  const Skeleton& worldSkeleton(int i) const;
+
+  /** @brief The camera (with this sample's height and tilt). */
+  const CameraModel& camera() const;
+  const SceneRenderer& scene() const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace synth
+}  // namespace action_flow

@@ -1,0 +1,429 @@
+// synth: renders the synthetic IAS-Lab-style dataset or the MSR Action3D skeletons as Kinect bags
+// (one per sample, plus index.csv), or preview images. See docs/synth.md.
+#include "synth_bag.h"
+
+#include <action_flow/synth/synth.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <unistd.h>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace action_flow::synth;
+
+namespace
+{
+std::atomic<bool> g_cancel{ false };
+void onSignal(int) { g_cancel = true; }
+
+const char* kUsage = R"(usage: synth [options]
+Renders one bag per sample (in the layout of a Kinect recorded with the ROS OpenNI driver) into
+OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
+
+  --dataset ias|msr      ias: synthetic actors, 15 IAS-Lab actions (default); msr: MSR Action3D skeletons
+  --skeletons DIR        msr: folder of aAA_sSS_eEE_skeleton3D.txt files (required for msr)
+  --all-msr              msr: also sequences not in files_used_in_cvpr12_paper.txt
+  --people N             ias: number of actors (default 12)
+  --repetitions N        ias: repetitions of each action (default 3)
+  --seed N               dataset seed (default 1); same seed, byte-identical output
+  --person ID, --action NAME, --repetition N   render only matching samples
+  --every N              only every Nth selected sample (a spread-out subset, e.g. for timing)
+  --limit N              only the first N selected samples
+  --frames N             at most N frames per sample
+  --out DIR              output folder (default synth_data)
+  --jobs N               samples rendered in parallel (default 1)
+  --skip-existing        keep bags already complete from an earlier run
+  --points               also write the organized PointCloud2 (large: ~10 MB a frame)
+  --raw-images           sensor_msgs/Image topics instead of <topic>/compressed (JPEG colour, PNG depth)
+  --compression none|lz4|bz2   bag chunk compression (default lz4)
+  --jpeg-quality Q       colour JPEG quality 1-100 (default 80)
+  --points-topic T, --rgb-topic T, --depth-topic T, --info-topic T, --mask-topic T, --tf-topic T
+  --list                 print the selected samples and exit
+  --preview              write PNGs instead of bags: OUT/<sample>_fNNN_color.png and _depth.png
+  --preview-at F         preview frame as a fraction of the sample (default 0.5); may repeat
+  --montage FILE         with --preview: also one JPEG grid of all previews (colour above depth)
+  --quiet                no progress bar
+)";
+
+[[noreturn]] void fail(const std::string& msg)
+{
+  std::cerr << "synth: " << msg << std::endl;
+  std::exit(1);
+}
+
+int toInt(const std::string& opt, const std::string& v, int lo, int hi)
+{
+  try
+  {
+    size_t pos = 0;
+    const long x = std::stol(v, &pos);
+    if (pos != v.size() || x < lo || x > hi)
+      throw std::invalid_argument("range");
+    return int(x);
+  }
+  catch (const std::exception&)
+  {
+    fail(opt + " expects an integer in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got '" + v + "'");
+  }
+}
+
+std::string fmtTime(double s)
+{
+  char buf[32];
+  const int t = int(s + 0.5);
+  std::snprintf(buf, sizeof buf, "%d:%02d:%02d", t / 3600, (t / 60) % 60, t % 60);
+  return buf;
+}
+
+class Progress
+{
+public:
+  Progress(size_t samples, bool quiet)
+    : samples_(samples), quiet_(quiet), tty_(isatty(2) != 0), start_(std::chrono::steady_clock::now())
+  {
+  }
+  void frame()
+  {
+    ++frames_;
+    draw(false);
+  }
+  void sample()
+  {
+    ++done_;
+    draw(false);
+  }
+  void finish() { draw(true); }
+  double seconds() const
+  {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  long frames() const { return frames_; }
+
+private:
+  void draw(bool last)
+  {
+    if (quiet_)
+      return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double t = seconds();
+    // A terminal gets a bar redrawn in place; a log gets a line every 10 s.
+    if (!last && t - last_draw_ < (tty_ ? 0.25 : 10.0))
+      return;
+    last_draw_ = t;
+    const size_t done = done_;
+    const int width = 30;
+    const int fill = samples_ ? int(width * done / samples_) : width;
+    const double eta = done ? t / done * (samples_ - done) : 0.0;
+    std::fprintf(stderr, "%s[%s%s] %zu/%zu samples, %ld frames, %.1f frames/s, elapsed %s, eta %s ",
+                 tty_ ? "\r" : "", std::string(size_t(fill), '#').c_str(), std::string(size_t(width - fill), '.').c_str(), done,
+                 samples_, frames_.load(), t > 0 ? frames_ / t : 0.0, fmtTime(t).c_str(),
+                 done ? fmtTime(eta).c_str() : "?");
+    if (last || !tty_)
+      std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+  size_t samples_;
+  bool quiet_, tty_;
+  std::chrono::steady_clock::time_point start_;
+  std::atomic<size_t> done_{ 0 };
+  std::atomic<long> frames_{ 0 };
+  std::mutex mutex_;
+  double last_draw_ = -1;
+};
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string dataset = "ias", skeletons, out = "synth_data", montage;
+  std::string only_person, only_action;
+  int only_rep = 0, every = 1, people = 12, repetitions = 3, limit = 0, max_frames = 0, jobs = 1;
+  std::uint64_t seed = 1;
+  bool all_msr = false, skip_existing = false, list = false, preview = false, quiet = false;
+  std::vector<double> preview_at;
+  BagOptions bag;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    const auto value = [&]() -> std::string {
+      if (i + 1 >= argc)
+        fail(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "-h" || a == "--help")
+    {
+      std::cout << kUsage;
+      return 0;
+    }
+    else if (a == "--dataset")
+      dataset = value();
+    else if (a == "--skeletons")
+      skeletons = value();
+    else if (a == "--all-msr")
+      all_msr = true;
+    else if (a == "--people")
+      people = toInt(a, value(), 1, 99);
+    else if (a == "--repetitions")
+      repetitions = toInt(a, value(), 1, 99);
+    else if (a == "--seed")
+      seed = std::uint64_t(toInt(a, value(), 0, 2147483647));
+    else if (a == "--person")
+      only_person = value();
+    else if (a == "--action")
+      only_action = value();
+    else if (a == "--repetition")
+      only_rep = toInt(a, value(), 1, 99);
+    else if (a == "--every")
+      every = toInt(a, value(), 1, 1000000);
+    else if (a == "--limit")
+      limit = toInt(a, value(), 1, 1000000);
+    else if (a == "--frames")
+      max_frames = toInt(a, value(), 1, 1000000);
+    else if (a == "--out")
+      out = value();
+    else if (a == "--jobs")
+      jobs = toInt(a, value(), 1, 64);
+    else if (a == "--skip-existing")
+      skip_existing = true;
+    else if (a == "--points")
+      bag.points = true;
+    else if (a == "--raw-images")
+      bag.raw_images = true;
+    else if (a == "--compression")
+      bag.compression = value();
+    else if (a == "--jpeg-quality")
+      bag.jpeg_quality = toInt(a, value(), 1, 100);
+    else if (a == "--points-topic")
+      bag.points_topic = value();
+    else if (a == "--rgb-topic")
+      bag.rgb_topic = value();
+    else if (a == "--depth-topic")
+      bag.depth_topic = value();
+    else if (a == "--info-topic")
+      bag.info_topic = value();
+    else if (a == "--mask-topic")
+      bag.mask_topic = value();
+    else if (a == "--tf-topic")
+      bag.tf_topic = value();
+    else if (a == "--list")
+      list = true;
+    else if (a == "--preview")
+      preview = true;
+    else if (a == "--preview-at")
+    {
+      const std::string v = value();
+      try
+      {
+        preview_at.push_back(std::stod(v));
+      }
+      catch (const std::exception&)
+      {
+        fail("--preview-at expects a number in [0,1], got '" + v + "'");
+      }
+      if (preview_at.back() < 0 || preview_at.back() > 1)
+        fail("--preview-at expects a number in [0,1], got '" + v + "'");
+    }
+    else if (a == "--montage")
+      montage = value();
+    else if (a == "--quiet")
+      quiet = true;
+    else
+      fail("unknown option '" + a + "' (see synth --help)");
+  }
+  if (bag.compression != "none" && bag.compression != "lz4" && bag.compression != "bz2")
+    fail("--compression must be none, lz4 or bz2, got '" + bag.compression + "'");
+  if (preview_at.empty())
+    preview_at.push_back(0.5);
+
+  std::vector<SampleSpec> specs;
+  try
+  {
+    if (dataset == "ias")
+      specs = iasLabSamples(people, repetitions, seed);
+    else if (dataset == "msr")
+    {
+      if (skeletons.empty())
+        fail("--dataset msr needs --skeletons DIR (the MSR Action3D skeleton folder)");
+      specs = msrSamples(skeletons, seed, !all_msr);
+    }
+    else
+      fail("--dataset must be ias or msr, got '" + dataset + "'");
+  }
+  catch (const std::exception& e)
+  {
+    fail(e.what());
+  }
+  if (!only_action.empty() && dataset == "ias")
+  {
+    const auto& acts = iasLabActions();
+    if (std::find(acts.begin(), acts.end(), only_action) == acts.end())
+      fail("--action: unknown action '" + only_action + "'");
+  }
+  std::vector<SampleSpec> selected;
+  size_t matching = 0;
+  for (SampleSpec s : specs)
+  {
+    if ((!only_person.empty() && s.person != only_person) || (!only_action.empty() && s.action != only_action) ||
+        (only_rep && s.repetition != only_rep))
+      continue;
+    if (matching++ % size_t(every) != 0)
+      continue;
+    s.max_frames = max_frames;
+    selected.push_back(s);
+    if (limit && int(selected.size()) >= limit)
+      break;
+  }
+  if (selected.empty())
+    fail("no sample matches the selection");
+  if (list)
+  {
+    for (const SampleSpec& s : selected)
+      std::cout << s.name() << "," << s.person << "," << s.action << "," << s.repetition << "\n";
+    return 0;
+  }
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  const fs::path dir = preview ? fs::path(out) : fs::path(out) / dataset;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    fail(dir.string() + ": cannot create folder: " + ec.message());
+  Progress progress(selected.size(), quiet);
+
+  std::vector<int> frames_of(selected.size(), -1);
+  std::vector<std::vector<std::string>> preview_files(selected.size());
+  std::atomic<size_t> next{ 0 };
+  std::mutex error_mutex;
+  std::string first_error;
+  const auto worker = [&]() {
+    for (;;)
+    {
+      const size_t k = next++;
+      if (k >= selected.size() || g_cancel)
+        return;
+      const SampleSpec& spec = selected[k];
+      try
+      {
+        SampleRenderer sample(spec);
+        if (preview)
+        {
+          for (double at : preview_at)
+          {
+            const int f = std::min(sample.frames() - 1, int(at * (sample.frames() - 1) + 0.5));
+            char buf[16];
+            std::snprintf(buf, sizeof buf, "_f%03d", f);
+            const std::string prefix = (dir / (spec.name() + buf)).string();
+            writePreview(sample, f, prefix);
+            preview_files[k].push_back(prefix);
+            progress.frame();
+          }
+          frames_of[k] = sample.frames();
+        }
+        else
+        {
+          const fs::path path = dir / (spec.name() + ".bag");
+          if (!(skip_existing && fs::exists(path)) &&
+              !writeSampleBag(sample, path.string(), bag, &g_cancel, [&]() { progress.frame(); }))
+            return;  // interrupted; the temporary file is gone
+          frames_of[k] = sample.frames();
+        }
+        progress.sample();
+      }
+      catch (const std::exception& e)
+      {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (first_error.empty())
+          first_error = spec.name() + ": " + e.what();
+        g_cancel = true;
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int j = 0; j < std::min<int>(jobs, int(selected.size())); ++j)
+    threads.emplace_back(worker);
+  for (auto& t : threads)
+    t.join();
+  progress.finish();
+
+  // The index lists every complete sample; written under a temporary name, then renamed.
+  size_t complete = 0;
+  if (!preview)
+  {
+    const fs::path index = dir / "index.csv", tmp = dir / "index.csv.tmp";
+    {
+      std::ofstream csv(tmp);
+      csv << "path,person,action,repetition,frames\n";
+      for (size_t k = 0; k < selected.size(); ++k)
+        if (frames_of[k] >= 0)
+        {
+          csv << selected[k].name() << ".bag," << selected[k].person << "," << selected[k].action << ","
+              << selected[k].repetition << "," << frames_of[k] << "\n";
+          ++complete;
+        }
+      if (!csv)
+        fail(tmp.string() + ": cannot write the index");
+    }
+    fs::rename(tmp, index, ec);
+    if (ec)
+      fail(index.string() + ": cannot rename the index into place: " + ec.message());
+  }
+  else if (!montage.empty() && first_error.empty() && !g_cancel)
+  {
+    // One grid: colour row above depth row for each preview, up to 5 per row, at 1/3 size.
+    std::vector<cv::Mat> tiles;
+    for (const auto& files : preview_files)
+      for (const std::string& prefix : files)
+      {
+        cv::Mat c = cv::imread(prefix + "_color.png"), d = cv::imread(prefix + "_depth.png");
+        cv::Mat both;
+        cv::vconcat(c, d, both);
+        cv::resize(both, both, cv::Size(), 1.0 / 3, 1.0 / 3, cv::INTER_AREA);
+        tiles.push_back(both);
+      }
+    const int cols = std::min<int>(5, int(tiles.size()));
+    std::vector<cv::Mat> rows;
+    for (size_t i = 0; i < tiles.size(); i += size_t(cols))
+    {
+      std::vector<cv::Mat> row(tiles.begin() + long(i), tiles.begin() + long(std::min(tiles.size(), i + size_t(cols))));
+      while (int(row.size()) < cols)
+        row.push_back(cv::Mat::zeros(tiles[0].size(), tiles[0].type()));
+      cv::Mat r;
+      cv::hconcat(row, r);
+      rows.push_back(r);
+    }
+    cv::Mat grid;
+    cv::vconcat(rows, grid);
+    if (!cv::imwrite(montage, grid, { cv::IMWRITE_JPEG_QUALITY, 85 }))
+      fail(montage + ": cannot write the montage");
+  }
+
+  if (!first_error.empty())
+    fail(first_error);
+  if (g_cancel)
+  {
+    std::cerr << "synth: interrupted; " << complete << " complete samples kept and indexed, no partial file left"
+              << std::endl;
+    return 130;
+  }
+  if (!quiet)
+    std::cerr << "synth: " << selected.size() << " samples, " << progress.frames() << " frames in "
+              << fmtTime(progress.seconds()) << " -> " << dir.string() << std::endl;
+  return 0;
+}

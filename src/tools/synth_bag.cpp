@@ -1,0 +1,276 @@
+// Bags in the layout of the 2012-13 ROS OpenNI driver, image encoding, previews.
+#include "synth_bag.h"
+
+#include <geometry_msgs/TransformStamped.h>
+#include <pcl_conversions/pcl_conversions.h>
+#include <rosbag/bag.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+namespace action_flow
+{
+namespace synth
+{
+namespace
+{
+const char* kRgbFrame = "camera_rgb_optical_frame";
+
+geometry_msgs::TransformStamped transform(const ros::Time& t, const std::string& parent, const std::string& child,
+                                          const Eigen::Vector3f& p, const Eigen::Quaternionf& q)
+{
+  geometry_msgs::TransformStamped m;
+  m.header.stamp = t;
+  m.header.frame_id = parent;
+  m.child_frame_id = child;
+  m.transform.translation.x = p.x();
+  m.transform.translation.y = p.y();
+  m.transform.translation.z = p.z();
+  m.transform.rotation.x = q.x();
+  m.transform.rotation.y = q.y();
+  m.transform.rotation.z = q.z();
+  m.transform.rotation.w = q.w();
+  return m;
+}
+
+std::vector<std::uint8_t> encode(const cv::Mat& m, const char* ext, const std::vector<int>& params)
+{
+  std::vector<std::uint8_t> out;
+  if (!cv::imencode(ext, m, out, params))
+    throw std::runtime_error(std::string("image encoding to ") + ext + " failed");
+  return out;
+}
+}  // namespace
+
+std::vector<std::uint8_t> encodeJpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int quality)
+{
+  cv::Mat bgr(height, width, CV_8UC3);
+  for (int i = 0; i < width * height; ++i)
+  {
+    bgr.data[3 * i] = rgb[3 * i + 2];
+    bgr.data[3 * i + 1] = rgb[3 * i + 1];
+    bgr.data[3 * i + 2] = rgb[3 * i];
+  }
+  return encode(bgr, ".jpg", { cv::IMWRITE_JPEG_QUALITY, quality });
+}
+
+std::vector<std::uint8_t> encodePng16(const std::vector<std::uint16_t>& data, int width, int height, int level)
+{
+  const cv::Mat m(height, width, CV_16UC1, const_cast<std::uint16_t*>(data.data()));
+  return encode(m, ".png", { cv::IMWRITE_PNG_COMPRESSION, level });
+}
+
+std::vector<std::uint8_t> encodePng8(const std::vector<std::uint8_t>& data, int width, int height, int level)
+{
+  const cv::Mat m(height, width, CV_8UC1, const_cast<std::uint8_t*>(data.data()));
+  return encode(m, ".png", { cv::IMWRITE_PNG_COMPRESSION, level });
+}
+
+std::vector<std::uint16_t> depthToMillimetres(const std::vector<float>& depth)
+{
+  std::vector<std::uint16_t> mm(depth.size());
+  for (size_t i = 0; i < depth.size(); ++i)
+    mm[i] = std::isfinite(depth[i]) ? std::uint16_t(std::lround(depth[i] * 1000.0f)) : 0;
+  return mm;
+}
+
+std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& o)
+{
+  std::vector<std::pair<std::string, std::string>> t;
+  if (o.raw_images)
+  {
+    t.emplace_back(o.rgb_topic, "sensor_msgs/Image");
+    t.emplace_back(o.depth_topic, "sensor_msgs/Image");
+    t.emplace_back(o.mask_topic, "sensor_msgs/Image");
+  }
+  else
+  {
+    t.emplace_back(o.rgb_topic + "/compressed", "sensor_msgs/CompressedImage");
+    t.emplace_back(o.depth_topic + "/compressed", "sensor_msgs/CompressedImage");
+    t.emplace_back(o.mask_topic + "/compressed", "sensor_msgs/CompressedImage");
+  }
+  t.emplace_back(o.info_topic, "sensor_msgs/CameraInfo");
+  t.emplace_back(o.tf_topic, "tf2_msgs/TFMessage");
+  if (o.points)
+    t.emplace_back(o.points_topic, "sensor_msgs/PointCloud2");
+  return t;
+}
+
+bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const BagOptions& o,
+                    const std::atomic<bool>* cancel, const std::function<void()>& on_frame)
+{
+  rosbag::CompressionType compression;
+  if (o.compression == "none")
+    compression = rosbag::compression::Uncompressed;
+  else if (o.compression == "lz4")
+    compression = rosbag::compression::LZ4;
+  else if (o.compression == "bz2")
+    compression = rosbag::compression::BZ2;
+  else
+    throw std::runtime_error("unknown bag compression '" + o.compression + "' (none, lz4, bz2)");
+  if (o.jpeg_quality < 1 || o.jpeg_quality > 100 || o.png_level < 0 || o.png_level > 9)
+    throw std::runtime_error("jpeg quality must be 1..100 and png level 0..9");
+
+  const std::string tmp = path + ".tmp";
+  const CameraModel& cam = sample.camera();
+  const int w = cam.width, h = cam.height;
+  try
+  {
+    rosbag::Bag bag;
+    bag.open(tmp, rosbag::bagmode::Write);
+    bag.setCompression(compression);
+
+    sensor_msgs::CameraInfo info;
+    info.header.frame_id = kRgbFrame;
+    info.width = std::uint32_t(w);
+    info.height = std::uint32_t(h);
+    info.distortion_model = "plumb_bob";
+    info.D.assign(5, 0.0);
+    info.K = { cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1 };
+    info.R = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+    info.P = { cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0 };
+
+    // Static camera frames as openni.launch published them, plus the camera's pose over the floor
+    // ("world": origin on the floor below the camera, z up) as ground truth.
+    const Eigen::Quaternionf optical(0.5f, -0.5f, 0.5f, -0.5f);  // rpy (-pi/2, 0, -pi/2)
+    const Eigen::Quaternionf pitch(Eigen::AngleAxisf(float(cam.tilt), Eigen::Vector3f::UnitY()));
+    const Eigen::Vector3f zero = Eigen::Vector3f::Zero();
+    const Eigen::Quaternionf id = Eigen::Quaternionf::Identity();
+
+    FrameImages im;
+    Cloud cloud;
+    for (int i = 0; i < sample.frames(); ++i)
+    {
+      if (cancel && cancel->load())
+      {
+        bag.close();
+        std::remove(tmp.c_str());
+        return false;
+      }
+      const ros::Time stamp(sample.stamp(i));
+      sample.renderImages(i, im);
+
+      std_msgs::Header header;
+      header.stamp = stamp;
+      header.seq = std::uint32_t(i);
+      header.frame_id = kRgbFrame;
+      const std::vector<std::uint16_t> mm = depthToMillimetres(im.depth);
+      if (o.raw_images)
+      {
+        sensor_msgs::Image rgb, depth, mask;
+        rgb.header = depth.header = mask.header = header;
+        rgb.width = depth.width = mask.width = std::uint32_t(w);
+        rgb.height = depth.height = mask.height = std::uint32_t(h);
+        rgb.encoding = "rgb8";
+        rgb.step = std::uint32_t(3 * w);
+        rgb.data = im.rgb;
+        depth.encoding = "16UC1";
+        depth.step = std::uint32_t(2 * w);
+        depth.data.resize(mm.size() * 2);
+        std::memcpy(depth.data.data(), mm.data(), depth.data.size());
+        mask.encoding = "mono8";
+        mask.step = std::uint32_t(w);
+        mask.data = im.mask;
+        bag.write(o.rgb_topic, stamp, rgb);
+        bag.write(o.depth_topic, stamp, depth);
+        bag.write(o.mask_topic, stamp, mask);
+      }
+      else
+      {
+        sensor_msgs::CompressedImage rgb, depth, mask;
+        rgb.header = depth.header = mask.header = header;
+        rgb.format = "rgb8; jpeg compressed bgr8";
+        rgb.data = encodeJpeg(im.rgb, w, h, o.jpeg_quality);
+        depth.format = "16UC1; png compressed 16UC1";
+        depth.data = encodePng16(mm, w, h, o.png_level);
+        mask.format = "mono8; png compressed mono8";
+        mask.data = encodePng8(im.mask, w, h, o.png_level);
+        bag.write(o.rgb_topic + "/compressed", stamp, rgb);
+        bag.write(o.depth_topic + "/compressed", stamp, depth);
+        bag.write(o.mask_topic + "/compressed", stamp, mask);
+      }
+      info.header.stamp = stamp;
+      info.header.seq = std::uint32_t(i);
+      bag.write(o.info_topic, stamp, info);
+
+      tf2_msgs::TFMessage tf;
+      tf.transforms.push_back(transform(stamp, "world", "camera_link",
+                                        Eigen::Vector3f(0, 0, float(cam.height_above_floor)), pitch));
+      tf.transforms.push_back(transform(stamp, "camera_link", "camera_rgb_frame", zero, id));
+      tf.transforms.push_back(transform(stamp, "camera_rgb_frame", kRgbFrame, zero, optical));
+      tf.transforms.push_back(transform(stamp, "camera_link", "camera_depth_frame", zero, id));
+      tf.transforms.push_back(transform(stamp, "camera_depth_frame", "camera_depth_optical_frame", zero, optical));
+      tf.transforms.push_back(transform(stamp, "camera_link", "openni_depth_frame", zero, id));
+      // openni_tracker's frames: user 1's joints under openni_depth_frame (x forward, y left, z up).
+      const Skeleton sk = sample.skeleton(i);
+      for (int k = 0; k < kJointCount; ++k)
+      {
+        const Eigen::Vector3f& p = sk.joints[k];
+        tf.transforms.push_back(transform(stamp, "openni_depth_frame", jointName(Joint(k)) + "_1",
+                                          Eigen::Vector3f(p.z(), -p.x(), -p.y()), id));
+      }
+      bag.write(o.tf_topic, stamp, tf);
+
+      if (o.points)
+      {
+        sample.scene().toCloud(im, cloud);
+        cloud.header.stamp = std::uint64_t(std::llround(sample.stamp(i) * 1e6));
+        sensor_msgs::PointCloud2 msg;
+        pcl::toROSMsg(cloud, msg);
+        msg.header = header;
+        bag.write(o.points_topic, stamp, msg);
+      }
+      if (on_frame)
+        on_frame();
+    }
+    bag.close();
+  }
+  catch (const rosbag::BagException& e)
+  {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(tmp + ": " + e.what());
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot rename the finished bag into place");
+  }
+  return true;
+}
+
+void writePreview(const SampleRenderer& sample, int i, const std::string& prefix)
+{
+  FrameImages im;
+  sample.renderImages(i, im);
+  const int w = im.width, h = im.height;
+  cv::Mat bgr(h, w, CV_8UC3), grey(h, w, CV_8UC1);
+  const CameraModel& cam = sample.camera();
+  for (int k = 0; k < w * h; ++k)
+  {
+    bgr.data[3 * k] = im.rgb[3 * k + 2];
+    bgr.data[3 * k + 1] = im.rgb[3 * k + 1];
+    bgr.data[3 * k + 2] = im.rgb[3 * k];
+    const float z = im.depth[k];
+    // Near is bright, far is dark, no depth is black.
+    grey.data[k] = std::isfinite(z) ? std::uint8_t(std::lround(255.0 - 215.0 * (z - cam.min_depth) / (cam.max_depth - cam.min_depth)))
+                                    : 0;
+  }
+  for (const auto& [suffix, m] : { std::make_pair("_color.png", bgr), std::make_pair("_depth.png", grey) })
+    if (!cv::imwrite(prefix + suffix, m, { cv::IMWRITE_PNG_COMPRESSION, 9 }))
+      throw std::runtime_error(prefix + suffix + ": cannot write");
+}
+
+}  // namespace synth
+}  // namespace action_flow

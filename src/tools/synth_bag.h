@@ -1,0 +1,60 @@
+// Writing synthetic samples as bags in the layout of a Kinect recorded with the ROS OpenNI driver,
+// and preview images. Used by the synth executable and its tests.
+#pragma once
+
+#include <action_flow/synth/synth.h>
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+namespace synth
+{
+/** @brief What goes into a bag and under which names. */
+struct BagOptions
+{
+  std::string points_topic = "/camera/depth_registered/points";
+  std::string rgb_topic = "/camera/rgb/image_color";
+  std::string depth_topic = "/camera/depth_registered/image_raw";
+  std::string info_topic = "/camera/rgb/camera_info";
+  std::string mask_topic = "/camera/person_mask";
+  std::string tf_topic = "/tf";
+  /** Also write the organized PointCloud2 (about 10 MB a frame before compression). */
+  bool points = false;
+  /** sensor_msgs/Image on the topics themselves instead of CompressedImage on <topic>/compressed. */
+  bool raw_images = false;
+  int jpeg_quality = 80;             ///< image_transport's default
+  int png_level = 3;                 ///< zlib level of the depth and mask PNGs
+  std::string compression = "lz4";   ///< bag chunk compression: none, lz4, bz2
+};
+
+/** @brief The topics and message types a bag written with @p options holds. */
+std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& options);
+
+/**
+ * @brief Renders every frame of @p sample into the bag @p path: written as "<path>.tmp" and renamed
+ *        when complete, so an existing @p path is always a complete bag.
+ * @param cancel checked between frames; when set, the temporary file is removed and false returned
+ * @param on_frame called after each frame (progress)
+ * @throws std::runtime_error (message naming the file) on write errors or bad options
+ */
+bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const BagOptions& options,
+                    const std::atomic<bool>* cancel = nullptr, const std::function<void()>& on_frame = {});
+
+/** @brief Writes <prefix>_color.png and <prefix>_depth.png (depth 0.5-4.5 m as grey, black = none) of frame @p i. */
+void writePreview(const SampleRenderer& sample, int i, const std::string& prefix);
+
+/** @brief Encodes 8-bit RGB as JPEG / 16-bit or 8-bit single channel as PNG (OpenCV). */
+std::vector<std::uint8_t> encodeJpeg(const std::vector<std::uint8_t>& rgb, int width, int height, int quality);
+std::vector<std::uint8_t> encodePng16(const std::vector<std::uint16_t>& data, int width, int height, int level);
+std::vector<std::uint8_t> encodePng8(const std::vector<std::uint8_t>& data, int width, int height, int level);
+
+/** @brief Depth in metres (NaN = none) to the driver's 16UC1 millimetres (0 = none). */
+std::vector<std::uint16_t> depthToMillimetres(const std::vector<float>& depth);
+
+}  // namespace synth
+}  // namespace action_flow

@@ -1,0 +1,289 @@
+// Tests of the synthetic actors and the per-sample renderer: the sets, the rendered frames and
+// masks, determinism, and that the actions move what they should.
+#include <action_flow/synth/synth.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
+
+using namespace action_flow::synth;
+
+namespace
+{
+SampleSpec ias(const std::string& person, const std::string& action, int rep, int max_frames = 0, std::uint64_t seed = 1)
+{
+  SampleSpec s;
+  s.dataset = "ias";
+  s.person = person;
+  s.action = action;
+  s.repetition = rep;
+  s.seed = seed;
+  s.max_frames = max_frames;
+  return s;
+}
+
+// Path length of a joint over the whole sample (m).
+float travel(const SampleRenderer& r, Joint j)
+{
+  float len = 0;
+  for (int i = 1; i < r.frames(); ++i)
+    len += (r.worldSkeleton(i)[j] - r.worldSkeleton(i - 1)[j]).norm();
+  return len;
+}
+
+float maxHandTravel(const SampleRenderer& r) { return std::max(travel(r, Joint::LeftHand), travel(r, Joint::RightHand)); }
+float maxFootTravel(const SampleRenderer& r) { return std::max(travel(r, Joint::LeftFoot), travel(r, Joint::RightFoot)); }
+
+Eigen::Vector3f pelvis(const Skeleton& s) { return 0.5f * (s[Joint::LeftHip] + s[Joint::RightHip]); }
+
+// Hands and feet relative to the pelvis, at 20 evenly spaced moments: a crude motion signature.
+Eigen::VectorXf signature(const SampleRenderer& r)
+{
+  const Joint parts[] = { Joint::LeftHand, Joint::RightHand, Joint::LeftFoot, Joint::RightFoot, Joint::Head };
+  Eigen::VectorXf v(20 * 5 * 3);
+  int k = 0;
+  for (int t = 0; t < 20; ++t)
+  {
+    const Skeleton& s = r.worldSkeleton(int(std::lround(t * (r.frames() - 1) / 19.0)));
+    for (Joint j : parts)
+    {
+      v.segment<3>(k) = s[j] - pelvis(s);
+      k += 3;
+    }
+  }
+  return v;
+}
+}  // namespace
+
+TEST(Sets, IasLabHas540UniqueSamplesOf15Actions)
+{
+  ASSERT_EQ(iasLabActions().size(), 15u);
+  EXPECT_EQ(iasLabActions().front(), "check_watch");
+  EXPECT_EQ(iasLabActions().back(), "wave");
+  const auto specs = iasLabSamples();
+  ASSERT_EQ(specs.size(), 540u);
+  std::set<std::string> names;
+  for (const auto& s : specs)
+    names.insert(s.name());
+  EXPECT_EQ(names.size(), 540u);
+  EXPECT_EQ(specs.front().name(), "p01_check_watch_1");
+  EXPECT_EQ(iasLabSamples(2, 1).size(), 30u);
+  EXPECT_THROW(iasLabSamples(0, 3), std::invalid_argument);
+  EXPECT_THROW(iasLabSamples(12, 0), std::invalid_argument);
+}
+
+TEST(Actors, TwelveDistinctPeopleCoverTheHeightRange)
+{
+  float lo = 10, hi = 0;
+  int left = 0;
+  std::set<std::tuple<float, float, float>> shirts;
+  for (const auto& s : iasLabSamples(12, 1))
+  {
+    if (s.action != "wave")
+      continue;
+    const Actor a = makeActor(s.person, 1);
+    lo = std::min(lo, a.shape.height);
+    hi = std::max(hi, a.shape.height);
+    left += a.left_handed ? 1 : 0;
+    EXPECT_GE(a.pace, 0.75f);
+    EXPECT_LE(a.pace, 1.25f);
+    shirts.insert({ a.appearance.shirt.base.x(), a.appearance.shirt.base.y(), a.appearance.shirt.base.z() });
+  }
+  EXPECT_GE(lo, 1.55f);
+  EXPECT_LE(hi, 1.95f);
+  EXPECT_LT(lo, 1.62f);
+  EXPECT_GT(hi, 1.88f);
+  EXPECT_GE(left, 1);
+  EXPECT_EQ(shirts.size(), 12u);
+  EXPECT_THROW(makeActor("x7"), std::invalid_argument);
+}
+
+TEST(SampleRenderer, RendersAnOrganizedCloudWithThePersonMasked)
+{
+  const SampleRenderer r(ias("p01", "wave", 1, 3));
+  ASSERT_EQ(r.frames(), 3);
+  EXPECT_EQ(r.label(), "wave");
+  EXPECT_NEAR(r.stamp(1) - r.stamp(0), 1.0 / 30, 1e-6);
+  action_flow::Cloud cloud;
+  std::vector<std::uint8_t> mask;
+  r.render(2, cloud, &mask);
+  ASSERT_EQ(cloud.width, 640u);
+  ASSERT_EQ(cloud.height, 480u);
+  EXPECT_FALSE(cloud.is_dense);
+  EXPECT_EQ(cloud.header.frame_id, "camera_rgb_optical_frame");
+  EXPECT_EQ(cloud.header.stamp, std::uint64_t(std::llround(r.stamp(2) * 1e6)));
+  ASSERT_EQ(mask.size(), cloud.size());
+  // The person: thousands of pixels, all near the skeleton, 2.3-3.8 m away.
+  const Skeleton sk = r.skeleton(2);
+  Eigen::Vector3f lo = sk.joints[0], hi = sk.joints[0];
+  for (const auto& j : sk.joints)
+  {
+    lo = lo.cwiseMin(j);
+    hi = hi.cwiseMax(j);
+  }
+  lo.array() -= 0.3f;
+  hi.array() += 0.3f;
+  int person = 0, with_depth = 0, nan_elsewhere = 0;
+  for (size_t i = 0; i < cloud.size(); ++i)
+  {
+    const auto& p = cloud.points[i];
+    if (!mask[i])
+    {
+      nan_elsewhere += std::isnan(p.z) ? 1 : 0;
+      continue;
+    }
+    EXPECT_EQ(mask[i], 1);
+    ++person;
+    if (!std::isfinite(p.z))
+      continue;
+    ++with_depth;
+    const Eigen::Vector3f q(p.x, p.y, p.z);
+    ASSERT_TRUE((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) << q.transpose();
+  }
+  EXPECT_GT(person, 4000);
+  EXPECT_GT(with_depth, 0.8 * person);
+  EXPECT_GT(nan_elsewhere, 0);  // the range limit and edges leave holes
+  // Head above feet in the image (y down) and the camera about 1.1 m above the floor.
+  EXPECT_LT(sk[Joint::Head].y(), sk[Joint::LeftFoot].y() - 1.2f);
+  EXPECT_NEAR(r.camera().height_above_floor, 1.1, 0.05);
+  EXPECT_THROW(r.render(3, cloud), std::out_of_range);
+}
+
+TEST(SampleRenderer, SameSpecSameBytesAndRepetitionsDiffer)
+{
+  const SampleRenderer a(ias("p03", "punch", 2, 40)), b(ias("p03", "punch", 2, 40));
+  action_flow::Cloud ca, cb;
+  std::vector<std::uint8_t> ma, mb;
+  a.render(30, ca, &ma);
+  b.render(30, cb, &mb);
+  ASSERT_EQ(ca.size(), cb.size());
+  EXPECT_EQ(std::memcmp(ca.points.data(), cb.points.data(), ca.size() * sizeof(action_flow::PointT)), 0);
+  EXPECT_EQ(ma, mb);
+  // Another repetition or another seed: different motion and noise.
+  const SampleRenderer c(ias("p03", "punch", 3, 40)), d(ias("p03", "punch", 2, 40, 2));
+  float diff_rep = 0, diff_seed = 0;
+  for (int i = 0; i < 40; ++i)
+    for (int k = 0; k < kJointCount; ++k)
+    {
+      diff_rep = std::max(diff_rep, (a.worldSkeleton(i).joints[k] - c.worldSkeleton(i).joints[k]).norm());
+      diff_seed = std::max(diff_seed, (a.worldSkeleton(i).joints[k] - d.worldSkeleton(i).joints[k]).norm());
+    }
+  EXPECT_GT(diff_rep, 0.02f);
+  EXPECT_GT(diff_seed, 0.02f);
+}
+
+TEST(Motion, ActionsMoveTheLimbsTheyShould)
+{
+  const auto make = [](const std::string& action) { return SampleRenderer(ias("p02", action, 1)); };
+  const SampleRenderer standing = make("standing"), wave = make("wave"), kick = make("kick"), walk = make("walk");
+  const SampleRenderer sit = make("sit_down"), get_up = make("get_up"), pick = make("pick_up");
+  // Wave: the hand travels metres, the feet stay.
+  EXPECT_GT(maxHandTravel(wave), 4 * maxHandTravel(standing));
+  EXPECT_LT(maxFootTravel(wave), 0.1f);
+  // Kick: a foot travels far more than when standing.
+  EXPECT_GT(maxFootTravel(kick), 0.8f);
+  EXPECT_LT(maxFootTravel(standing), 0.1f);
+  // Walk: the body crosses more than a metre.
+  EXPECT_GT((pelvis(walk.worldSkeleton(walk.frames() - 1)) - pelvis(walk.worldSkeleton(0))).norm(), 1.2f);
+  // Sit down ends lower than it starts, get up the reverse; pick up brings a hand near the floor.
+  EXPECT_LT(pelvis(sit.worldSkeleton(sit.frames() - 1)).z(), pelvis(sit.worldSkeleton(0)).z() - 0.2f);
+  EXPECT_GT(pelvis(get_up.worldSkeleton(get_up.frames() - 1)).z(), pelvis(get_up.worldSkeleton(0)).z() + 0.2f);
+  float lowest = 10;
+  for (int i = 0; i < pick.frames(); ++i)
+    lowest = std::min({ lowest, pick.worldSkeleton(i)[Joint::LeftHand].z(), pick.worldSkeleton(i)[Joint::RightHand].z() });
+  EXPECT_LT(lowest, 0.25f);
+}
+
+TEST(Motion, DominantHandDoesTheGesture)
+{
+  // p03 is left-handed, p01 right-handed.
+  ASSERT_TRUE(makeActor("p03").left_handed);
+  ASSERT_FALSE(makeActor("p01").left_handed);
+  const SampleRenderer left(ias("p03", "wave", 1)), right(ias("p01", "wave", 1));
+  EXPECT_GT(travel(left, Joint::LeftHand), 3 * travel(left, Joint::RightHand));
+  EXPECT_GT(travel(right, Joint::RightHand), 3 * travel(right, Joint::LeftHand));
+}
+
+TEST(Motion, PeopleDifferMoreThanRepetitions)
+{
+  double within = 0, between = 0;
+  int n = 0;
+  for (const std::string action : { "wave", "point", "kick", "check_watch", "throw_over_head" })
+    for (const std::string person : { "p01", "p04", "p06" })
+    {
+      const Eigen::VectorXf r1 = signature(SampleRenderer(ias(person, action, 1)));
+      const Eigen::VectorXf r2 = signature(SampleRenderer(ias(person, action, 2)));
+      const Eigen::VectorXf other = signature(SampleRenderer(ias(person == "p01" ? "p05" : "p01", action, 1)));
+      within += (r1 - r2).norm();
+      between += (r1 - other).norm();
+      EXPECT_GT((r1 - r2).norm(), 0.01f) << person << " " << action << ": repetitions identical";
+      ++n;
+    }
+  EXPECT_LT(within / n, between / n);
+}
+
+TEST(Placement, WholeBodyInViewAndFacingTheCamera)
+{
+  for (const std::string person : { "p01", "p05", "p09" })
+    for (const auto& action : iasLabActions())
+    {
+      const SampleRenderer r(ias(person, action, 2));
+      const auto& cam = r.camera();
+      for (int i = 0; i < r.frames(); i += 5)
+      {
+        const Skeleton s = r.skeleton(i);
+        for (const auto& p : s.joints)
+        {
+          const double u = cam.fx * p.x() / p.z() + cam.cx, v = cam.fy * p.y() / p.z() + cam.cy;
+          ASSERT_TRUE(u > 0 && u < 639 && v > 0 && v < 479) << r.spec().name() << " frame " << i;
+        }
+      }
+      // Distance of the standing start from the camera (horizontal), 2.5-3.5 m (walkers may be off).
+      const Skeleton& w0 = r.worldSkeleton(0);
+      const float d = pelvis(w0).head<2>().norm();
+      if (action != "walk")
+      {
+        EXPECT_GE(d, 2.45f) << r.spec().name();
+        EXPECT_LE(d, 4.25f) << r.spec().name();
+      }
+    }
+}
+
+TEST(Msr, RendersRealSkeletonsWithTheRightArmWaving)
+{
+  const std::string folder = std::string(ACTION_FLOW_SHARED_DATA) + "/msr_action3d_skeletons";
+  if (!std::filesystem::exists(folder))
+    GTEST_SKIP() << "MSR skeletons not found at " << folder;
+  const auto specs = msrSamples(folder);
+  ASSERT_EQ(specs.size(), 557u);
+  EXPECT_EQ(msrSamples(folder, 1, false).size(), 567u);
+  const SampleSpec spec = specs.front();
+  EXPECT_EQ(spec.name(), "a01_s01_e01");
+  EXPECT_EQ(spec.action, "high_arm_wave");
+  const MsrSkeletonFile file = parseMsrSkeletonFile(spec.skeleton_file);
+  const SampleRenderer r(spec);
+  EXPECT_EQ(r.frames(), 2 * int(file.frames.size()) - 1);  // 15 fps resampled to 30
+  // High arm wave with the right arm: the right hand goes above the head, and, the person facing
+  // the camera, appears on the image's left of the left hand.
+  bool above = false;
+  for (int i = 0; i < r.frames(); ++i)
+  {
+    const Skeleton& w = r.worldSkeleton(i);
+    above = above || w[Joint::RightHand].z() > w[Joint::Head].z();
+    EXPECT_LT(w[Joint::LeftHand].z(), w[Joint::Head].z());
+  }
+  EXPECT_TRUE(above);
+  const Skeleton s = r.skeleton(0);
+  EXPECT_LT(s[Joint::RightShoulder].x(), s[Joint::LeftShoulder].x());
+  // Feet on the floor, whole person rendered.
+  EXPECT_NEAR(std::min(r.worldSkeleton(0)[Joint::LeftFoot].z(), r.worldSkeleton(0)[Joint::RightFoot].z()), 0.07f, 0.08f);
+  action_flow::Cloud cloud;
+  std::vector<std::uint8_t> mask;
+  r.render(r.frames() / 2, cloud, &mask);
+  EXPECT_GT(std::count(mask.begin(), mask.end(), 1), 4000);
+}
