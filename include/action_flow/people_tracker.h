@@ -12,6 +12,7 @@
 #include <boost/shared_ptr.hpp>
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,6 +49,22 @@ struct TrackerParams
   double lost_after = 0.5;
   /** A new track is reported only after this many detections. */
   int confirm_after = 2;
+
+  // ---- added with the implementation (defaults follow pcl::people where it has one) ----
+  /** Roughly "up" in the input frame, used to look for the ground (the camera's -y by default;
+   *  e.g. (0,0,1) for clouds already in a z-up fixed frame such as odom). Need not be exact. */
+  Eigen::Vector3f up_hint = Eigen::Vector3f(0, -1, 0);
+  /** Largest angle (radians) between up_hint and the ground's normal: how far the camera may be tilted. */
+  float ground_max_angle = 0.8f;
+  /** Least floor area (m^2, counted in detection voxels) that makes a ground plane. */
+  float ground_min_area = 0.5f;
+  /** Where no floor is visible (dark or shiny floors give no depth), assume the ground below the
+   *  lowest points when those lie at one level over at least 1 m (feet, chair legs, furniture). */
+  bool assume_ground_below_points = true;
+  /** Heads closer than this (on the ground) belong to one person (pcl::people's 0.3 m). */
+  float min_head_distance = 0.3f;
+  /** With a HOG classifier: detections scoring below this are rejected (pcl::people's examples use -1.5). */
+  float hog_min_confidence = -1.5f;
 };
 
 /** @brief One tracked person in one frame. */
@@ -58,6 +75,8 @@ struct TrackedPerson
   Eigen::Vector3f velocity = Eigen::Vector3f::Zero(); ///< from the motion model (m/s)
   float height = 0.0f;                              ///< top of head above the ground
   PersonFrame frame;                                ///< where the descriptor grid sits
+  /** HOG+SVM score of this frame's detection; NaN when no classifier ran (none given, unorganized cloud). */
+  double hog_confidence = std::numeric_limits<double>::quiet_NaN();
   /** The person's points at person_voxel_size, in the input frame; never modified after update(). */
   boost::shared_ptr<Cloud> cloud;
 };
@@ -69,7 +88,10 @@ struct TrackerResult
   std::vector<std::uint32_t> lost;    ///< tracks that ended at this frame
   Eigen::Vector4f ground = Eigen::Vector4f::Zero();
   bool ground_valid = false;          ///< false until a ground plane has been found
-  bool reset = false;                 ///< time went backwards: all tracks were dropped first
+  bool ground_assumed = false;        ///< the ground is assumed below the lowest points (no floor visible)
+  bool reset = false;                 ///< time went backwards: all tracks were dropped first (their ids are in lost)
+  std::size_t detections = 0;         ///< people detected in this frame (confirmed tracks or not)
+  bool hog_applied = false;           ///< the HOG classifier checked this frame's detections (needs an organized cloud)
 };
 
 /**
@@ -86,7 +108,12 @@ public:
    * @brief Processes one cloud (organized or not; y of the camera roughly down unless the ground
    *        is given) taken at @p stamp, with the camera at @p camera_origin in the cloud's frame.
    * Empty, all-NaN or floorless clouds give a result with no people (and ground_valid false
-   * until a floor is seen); they never throw.
+   * until a floor is seen); they never throw. Nor do clouds whose width*height does not match
+   * their size, or a non-finite stamp: those are ignored (an empty result, state unchanged).
+   * A stamp earlier than the previous one drops every track first (TrackerResult::reset).
+   * A track lost (not seen for lost_after seconds) is listed once in TrackerResult::lost.
+   * TrackedPerson::position is this frame's measured centroid; velocity comes from the
+   * constant-velocity filter.
    */
   TrackerResult update(const Cloud& cloud, double stamp,
                        const Eigen::Vector3f& camera_origin = Eigen::Vector3f::Zero());

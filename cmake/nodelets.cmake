@@ -1,0 +1,85 @@
+# ROS wrappers: the pipeline's nodelets, their test aids, launch checks and rostests.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(OPENNI2 REQUIRED libopenni2)
+
+# Stage types (zero-copy message traits) and parameter reading, shared by every nodelet.
+add_library(action_flow_ros src/nodelets/stage_types.cpp src/nodelets/params.cpp)
+add_dependencies(action_flow_ros ${PROJECT_NAME}_generate_messages_cpp)
+target_link_libraries(action_flow_ros action_flow_core ${catkin_LIBRARIES})
+
+# Flow, descriptor and classifier stages.
+add_library(action_flow_nodelets
+  src/nodelets/flow_nodelet.cpp
+  src/nodelets/descriptor_nodelet.cpp
+  src/nodelets/classifier_nodelet.cpp)
+target_link_libraries(action_flow_nodelets action_flow_ros)
+
+# OpenNI2 driver.
+add_library(action_flow_driver src/driver/openni2_device.cpp src/nodelets/driver_nodelet.cpp)
+target_include_directories(action_flow_driver SYSTEM PRIVATE ${OPENNI2_INCLUDE_DIRS})
+target_link_libraries(action_flow_driver ${OPENNI2_LIBRARIES} ${catkin_LIBRARIES})
+
+# People tracker stage, over the tracker part's core library.
+add_library(action_flow_tracker_nodelet src/nodelets/people_tracker_nodelet.cpp)
+target_link_libraries(action_flow_tracker_nodelet action_flow_ros ${catkin_LIBRARIES})
+if(TARGET action_flow_tracker)
+  target_link_libraries(action_flow_tracker_nodelet action_flow_tracker)
+endif()
+
+# Test aids (exported too so that rostests can load them by name): a scene / person-cloud
+# publisher and the zero-copy probe.
+add_library(action_flow_test_nodelets test/ros/test_scene.cpp test/ros/test_scene_publisher.cpp test/ros/zero_copy_probe.cpp)
+target_link_libraries(action_flow_test_nodelets action_flow_ros ${catkin_LIBRARIES})
+
+install(TARGETS action_flow_ros action_flow_nodelets action_flow_driver action_flow_tracker_nodelet
+        action_flow_test_nodelets
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(FILES nodelets.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(DIRECTORY launch config DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+  find_package(roslaunch REQUIRED)
+  # Every launch file parses, its args resolve, and every package it names exists.
+  roslaunch_add_file_check(launch/pipeline.launch)
+  roslaunch_add_file_check(launch/kinect.launch)
+  roslaunch_add_file_check(launch/bag.launch)
+  roslaunch_add_file_check(launch/bag.launch input:=images)
+  roslaunch_add_file_check(launch/bag.launch bag:=some.bag)
+
+  # The classifier's test models, written through the core's ActionModel::save.
+  add_executable(make_test_model EXCLUDE_FROM_ALL test/ros/make_test_model.cpp)
+  target_link_libraries(make_test_model action_flow_core)
+  set(ACTION_FLOW_TEST_MODELS ${CMAKE_BINARY_DIR}/test_models)
+  add_custom_command(OUTPUT ${ACTION_FLOW_TEST_MODELS}/two_actions.afm ${ACTION_FLOW_TEST_MODELS}/corrupt.afm
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${ACTION_FLOW_TEST_MODELS}
+    COMMAND make_test_model ${ACTION_FLOW_TEST_MODELS}
+    DEPENDS make_test_model
+    COMMENT "Writing the classifier's test models")
+  add_custom_target(action_flow_test_models DEPENDS ${ACTION_FLOW_TEST_MODELS}/two_actions.afm)
+  add_dependencies(tests action_flow_test_models)
+
+  add_executable(test_load_all EXCLUDE_FROM_ALL test/ros/test_load_all.cpp)
+  target_link_libraries(test_load_all ${catkin_LIBRARIES} gtest)
+  add_executable(test_stages EXCLUDE_FROM_ALL test/ros/test_stages.cpp)
+  target_link_libraries(test_stages action_flow_ros ${catkin_LIBRARIES} gtest)
+  add_dependencies(tests test_load_all test_stages)
+
+  set(ACTION_FLOW_MODEL_ARGS model:=${ACTION_FLOW_TEST_MODELS}/two_actions.afm
+                             corrupt_model:=${ACTION_FLOW_TEST_MODELS}/corrupt.afm)
+  add_rostest(test/ros/load_all.test DEPENDENCIES test_load_all)
+  add_rostest(test/ros/flow.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/flow_reset.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/flow_bad_input.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/descriptor.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/classifier_segmented.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/classifier_online.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/classifier_bad_model.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/lazy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/zero_copy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/zero_copy_detects_copy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/driver_dummy.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/driver_absent.test DEPENDENCIES test_stages)
+endif()

@@ -1,0 +1,30 @@
+# People tracker core (ROS-free): its own library on top of action_flow_core and PCL's people module.
+find_package(PCL REQUIRED COMPONENTS people)
+
+add_library(action_flow_tracker
+  src/core/people_tracker.cpp
+  src/core/tracker_detector.cpp
+  src/core/tracker_ground.cpp
+  src/core/tracker_assignment.cpp
+)
+target_link_libraries(action_flow_tracker action_flow_core ${PCL_LIBRARIES})
+
+# Benchmark: per-frame time on the real 640x480 clouds (reads bags, so it links catkin's rosbag).
+add_executable(tracker_benchmark test/tracker/tracker_benchmark.cpp)
+target_compile_definitions(tracker_benchmark PRIVATE ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
+target_link_libraries(tracker_benchmark action_flow_tracker ${catkin_LIBRARIES})
+
+install(TARGETS action_flow_tracker tracker_benchmark
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_tracker
+    test/tracker/test_tracker_parts.cpp
+    test/tracker/test_tracker_scenes.cpp
+    test/tracker/test_tracker_real.cpp)
+  target_compile_definitions(test_tracker PRIVATE
+    ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
+  target_link_libraries(test_tracker action_flow_tracker ${catkin_LIBRARIES} gtest_main)
+endif()

@@ -1,0 +1,151 @@
+#include <action_flow/people_tracker.h>
+#include <action_flow/tracker_assignment.h>
+#include <action_flow/tracker_detector.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace action_flow
+{
+namespace
+{
+struct Track
+{
+  ConstantVelocityFilter filter;
+  std::uint32_t id = 0;  // 0 until confirmed
+  int hits = 1;
+  double last_seen = 0.0;
+};
+}  // namespace
+
+struct PeopleTracker::Impl
+{
+  explicit Impl(const TrackerParams& p) : detector(p) {}
+  PeopleDetector detector;
+  std::vector<Track> tracks;
+  std::uint32_t next_id = 1;
+  bool has_stamp = false;
+  double last_stamp = 0.0;
+};
+
+PeopleTracker::PeopleTracker(const TrackerParams& params) : params_(params), impl_(std::make_unique<Impl>(params))
+{
+}
+
+PeopleTracker::~PeopleTracker() = default;
+
+void PeopleTracker::reset()
+{
+  impl_->tracks.clear();
+  impl_->detector.reset();
+  impl_->has_stamp = false;
+}
+
+TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eigen::Vector3f& camera_origin)
+{
+  TrackerResult result;
+  Impl& s = *impl_;
+  if (!std::isfinite(stamp) || !camera_origin.allFinite() ||
+      cloud.size() != static_cast<std::size_t>(cloud.width) * cloud.height)
+    return result;  // ignored: state unchanged
+
+  if (s.has_stamp && stamp < s.last_stamp)
+  {
+    // A bag restarting: continuing the tracks would mean negative velocities and nonsense matches.
+    result.reset = true;
+    for (const Track& t : s.tracks)
+      if (t.id != 0)
+        result.lost.push_back(t.id);
+    s.tracks.clear();
+  }
+  const double dt = s.has_stamp && !result.reset ? stamp - s.last_stamp : 0.0;
+  s.has_stamp = true;
+  s.last_stamp = stamp;
+
+  DetectionResult det = s.detector.detect(cloud, camera_origin);
+  result.ground = det.ground;
+  result.ground_valid = det.ground_valid;
+  result.ground_assumed = det.ground_assumed;
+  result.detections = det.people.size();
+  result.hog_applied = det.hog_applied;
+
+  for (Track& t : s.tracks)
+    t.filter.predict(dt);
+
+  // Gated optimal assignment on the ground: distance between prediction and detection, ignoring
+  // the height (a person bending is still the same person).
+  const Eigen::Vector3f up = det.ground_valid ? Eigen::Vector3f(det.ground.head<3>()) : Eigen::Vector3f::Zero();
+  const auto horizontal = [&](const Eigen::Vector3f& d) { return (d - d.dot(up) * up).norm(); };
+  Eigen::MatrixXf cost(s.tracks.size(), det.people.size());
+  for (std::size_t i = 0; i < s.tracks.size(); ++i)
+    for (std::size_t j = 0; j < det.people.size(); ++j)
+      cost(i, j) = horizontal(det.people[j].centroid - s.tracks[i].filter.position());
+  const std::vector<int> match = solveAssignment(cost, params_.gate);
+
+  std::vector<char> used(det.people.size(), 0);
+  std::vector<Track> kept;
+  std::vector<int> kept_detection;  // detection seen by each kept track in this frame, or -1
+  for (std::size_t i = 0; i < s.tracks.size(); ++i)
+  {
+    Track& t = s.tracks[i];
+    if (match[i] >= 0)
+    {
+      used[match[i]] = 1;
+      t.filter.correct(det.people[match[i]].centroid);
+      t.hits += 1;
+      t.last_seen = stamp;
+      if (t.id == 0 && t.hits >= params_.confirm_after)
+        t.id = s.next_id++;
+      kept.push_back(t);
+      kept_detection.push_back(match[i]);
+    }
+    else if (t.id == 0)
+    {
+      // A tentative track missing a frame was most likely clutter: dropped silently.
+    }
+    else if (stamp - t.last_seen > params_.lost_after)
+      result.lost.push_back(t.id);
+    else
+    {
+      kept.push_back(t);
+      kept_detection.push_back(-1);
+    }
+  }
+  for (std::size_t j = 0; j < det.people.size(); ++j)
+    if (!used[j])
+    {
+      Track t{ConstantVelocityFilter(det.people[j].centroid), 0, 1, stamp};
+      if (params_.confirm_after <= 1)
+        t.id = s.next_id++;
+      kept.push_back(t);
+      kept_detection.push_back(static_cast<int>(j));
+    }
+  s.tracks.swap(kept);
+
+  for (std::size_t i = 0; i < s.tracks.size(); ++i)
+  {
+    const Track& t = s.tracks[i];
+    if (t.id == 0 || kept_detection[i] < 0)
+      continue;
+    const PersonDetection& d = det.people[kept_detection[i]];
+    TrackedPerson p;
+    p.id = t.id;
+    p.position = d.centroid;
+    p.velocity = t.filter.velocity();
+    p.height = d.height;
+    p.hog_confidence = d.hog_confidence;
+    try
+    {
+      p.frame = PersonFrame::fromGround(d.centroid, det.ground, d.height, d.centroid - camera_origin);
+    }
+    catch (const std::invalid_argument&)
+    {
+      continue;  // right below the camera: no viewing direction to set the grid by
+    }
+    p.cloud = s.detector.personCloud(cloud, d);
+    result.people.push_back(std::move(p));
+  }
+  return result;
+}
+
+}  // namespace action_flow

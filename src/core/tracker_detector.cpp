@@ -1,0 +1,477 @@
+#include <action_flow/tracker_detector.h>
+
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/people/head_based_subcluster.h>
+#include <pcl/people/person_classifier.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+namespace action_flow
+{
+namespace
+{
+Cloud::ConstPtr borrow(const Cloud& cloud)
+{
+  return Cloud::ConstPtr(&cloud, [](const Cloud*) {});
+}
+
+// The voxel a point falls in, as pcl::VoxelGrid computes it (floor of the coordinate over the
+// leaf size: the grid is anchored at the origin), packed into one key.
+std::uint64_t voxelKey(const PointT& p, float inverse_leaf)
+{
+  const auto part = [&](float v) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(v * inverse_leaf)) + (1 << 20)) & 0x1FFFFF;
+  };
+  return (part(p.x) << 42) | (part(p.y) << 21) | part(p.z);
+}
+
+// Mean number of points (itself included) within the clustering tolerance of a person's voxel,
+// at least: about 12 on a surface voxelised at a third of the tolerance, 1-3 for scattered points.
+constexpr float kMinSurfaceNeighbours = 5.0f;
+
+void require(bool ok, const char* what)
+{
+  if (!ok)
+    throw std::invalid_argument(std::string("PeopleTracker: bad parameter: ") + what);
+}
+}  // namespace
+
+void validateTrackerParams(const TrackerParams& p)
+{
+  require(std::isfinite(p.detection_voxel_size) && p.detection_voxel_size >= 0.01f && p.detection_voxel_size <= 0.5f,
+          "detection_voxel_size must be in [0.01, 0.5] m");
+  require(std::isfinite(p.person_voxel_size) && p.person_voxel_size >= 0.005f && p.person_voxel_size <= 0.5f,
+          "person_voxel_size must be in [0.005, 0.5] m");
+  require(std::isfinite(p.max_range) && p.max_range > 0.5f, "max_range must exceed 0.5 m");
+  // pcl::VoxelGrid refuses grids whose voxel count overflows an int.
+  const double cells = 2.0 * p.max_range / p.detection_voxel_size + 1.0;
+  require(cells * cells * cells < static_cast<double>(INT_MAX), "max_range is too large for detection_voxel_size");
+  require(std::isfinite(p.min_height) && std::isfinite(p.max_height) && p.min_height > 0 && p.max_height > p.min_height,
+          "need 0 < min_height < max_height");
+  require(std::isfinite(p.min_width) && std::isfinite(p.max_width) && p.min_width >= 0 && p.max_width > p.min_width,
+          "need 0 <= min_width < max_width");
+  require(std::isfinite(p.ground_tolerance) && p.ground_tolerance > 0 && p.ground_tolerance < p.min_height,
+          "ground_tolerance must be positive and below min_height");
+  require(std::isfinite(p.cluster_tolerance) && p.cluster_tolerance > 0, "cluster_tolerance must be positive");
+  require(p.min_points >= 1, "min_points must be at least 1");
+  if (p.fixed_ground)
+    require(p.ground.allFinite() && p.ground.head<3>().norm() > 1e-6f, "ground must be a finite plane with a normal");
+  require(std::isfinite(p.gate) && p.gate > 0, "gate must be positive");
+  require(std::isfinite(p.lost_after) && p.lost_after > 0, "lost_after must be positive");
+  require(p.confirm_after >= 1, "confirm_after must be at least 1");
+  require(p.up_hint.allFinite() && p.up_hint.norm() > 1e-6f, "up_hint must be a finite non-zero vector");
+  require(std::isfinite(p.ground_max_angle) && p.ground_max_angle > 0 && p.ground_max_angle < 1.5f,
+          "ground_max_angle must be in (0, 1.5) rad");
+  require(std::isfinite(p.ground_min_area) && p.ground_min_area > 0, "ground_min_area must be positive");
+  require(std::isfinite(p.min_head_distance) && p.min_head_distance > 0, "min_head_distance must be positive");
+  require(std::isfinite(p.hog_min_confidence), "hog_min_confidence must be finite");
+}
+
+bool fitProjection(const Cloud& cloud, Eigen::Matrix<float, 3, 4>& projection)
+{
+  if (cloud.height < 2 || cloud.width < 2 || cloud.size() != static_cast<std::size_t>(cloud.width) * cloud.height)
+    return false;
+  // Normalised coordinates (Hartley) keep the linear system well conditioned.
+  std::vector<Eigen::Vector3d> X;
+  std::vector<Eigen::Vector2d> uv;
+  const int step = std::max(1, static_cast<int>(std::sqrt(cloud.size() / 2000.0)));
+  for (std::uint32_t v = 0; v < cloud.height; v += step)
+    for (std::uint32_t u = 0; u < cloud.width; u += step)
+    {
+      const PointT& p = cloud.at(u, v);
+      if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z))
+      {
+        X.emplace_back(p.x, p.y, p.z);
+        uv.emplace_back(u, v);
+      }
+    }
+  if (X.size() < 50)
+    return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& x : X)
+    mean += x;
+  mean /= static_cast<double>(X.size());
+  double spread = 0.0;
+  for (const auto& x : X)
+    spread += (x - mean).norm();
+  spread /= static_cast<double>(X.size());
+  if (!(spread > 1e-6))
+    return false;
+  const double s = std::sqrt(3.0) / spread;
+  const double half_w = cloud.width / 2.0, scale_uv = 2.0 / cloud.width;
+  Eigen::Matrix<double, 12, 12> AtA = Eigen::Matrix<double, 12, 12>::Zero();
+  for (std::size_t k = 0; k < X.size(); ++k)
+  {
+    Eigen::Vector4d Xh;
+    Xh << (X[k] - mean) * s, 1.0;
+    const double un = (uv[k].x() - half_w) * scale_uv, vn = (uv[k].y() - cloud.height / 2.0) * scale_uv;
+    Eigen::Matrix<double, 12, 1> r1 = Eigen::Matrix<double, 12, 1>::Zero(), r2 = r1;
+    r1.segment<4>(0) = Xh;
+    r1.segment<4>(8) = -un * Xh;
+    r2.segment<4>(4) = Xh;
+    r2.segment<4>(8) = -vn * Xh;
+    AtA += r1 * r1.transpose() + r2 * r2.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 12, 12>> eig(AtA);
+  const Eigen::Matrix<double, 12, 1> h = eig.eigenvectors().col(0);
+  Eigen::Matrix<double, 3, 4> Pn;
+  Pn << h.segment<4>(0).transpose(), h.segment<4>(4).transpose(), h.segment<4>(8).transpose();
+  // Undo the normalisations: pixel = Tu^-1 * Pn * Tx * X.
+  Eigen::Matrix4d Tx = Eigen::Matrix4d::Identity();
+  Tx.topLeftCorner<3, 3>() *= s;
+  Tx.topRightCorner<3, 1>() = -s * mean;
+  Eigen::Matrix3d Tu_inv = Eigen::Matrix3d::Identity();
+  Tu_inv(0, 0) = Tu_inv(1, 1) = 1.0 / scale_uv;
+  Tu_inv(0, 2) = half_w;
+  Tu_inv(1, 2) = cloud.height / 2.0;
+  Eigen::Matrix<double, 3, 4> P = Tu_inv * Pn * Tx;
+  // The eigenvector's sign is arbitrary: choose the one that puts the points in front of the camera.
+  double w = 0.0;
+  for (const auto& x : X)
+    w += (P * x.homogeneous()).z();
+  if (w < 0.0)
+    P = -P;
+  std::vector<double> err;
+  err.reserve(X.size());
+  for (std::size_t k = 0; k < X.size(); ++k)
+  {
+    const Eigen::Vector3d q = P * X[k].homogeneous();
+    if (!(std::abs(q.z()) > 1e-12))
+      return false;
+    err.push_back((q.hnormalized() - uv[k]).norm());
+  }
+  std::nth_element(err.begin(), err.begin() + err.size() / 2, err.end());
+  if (!(err[err.size() / 2] < 2.0))
+    return false;
+  projection = P.cast<float>();
+  return true;
+}
+
+struct PeopleDetector::Impl
+{
+  explicit Impl(const GroundParams& g) : ground(g) {}
+  GroundEstimator ground;
+  std::unique_ptr<pcl::people::PersonClassifier<pcl::RGB>> classifier;
+};
+
+PeopleDetector::PeopleDetector(const TrackerParams& params) : params_(params)
+{
+  validateTrackerParams(params_);
+  GroundParams g;
+  g.inlier_distance = std::max(0.06f, params_.detection_voxel_size);
+  g.min_inliers = std::max(10, static_cast<int>(params_.ground_min_area /
+                                                (params_.detection_voxel_size * params_.detection_voxel_size)));
+  g.max_angle = params_.ground_max_angle;
+  g.assume_below_points = params_.assume_ground_below_points;
+  impl_ = std::make_unique<Impl>(g);
+  if (!params_.hog_classifier_file.empty())
+  {
+    if (!std::ifstream(params_.hog_classifier_file).good())
+      throw std::invalid_argument("PeopleTracker: cannot read HOG classifier file '" + params_.hog_classifier_file + "'");
+    impl_->classifier = std::make_unique<pcl::people::PersonClassifier<pcl::RGB>>();
+    if (!impl_->classifier->loadSVMFromFile(params_.hog_classifier_file))
+      throw std::invalid_argument("PeopleTracker: '" + params_.hog_classifier_file + "' is not a HOG+SVM classifier file");
+  }
+}
+
+PeopleDetector::~PeopleDetector() = default;
+
+void PeopleDetector::reset()
+{
+  impl_->ground.reset();
+}
+
+int PeopleDetector::groundSearches() const
+{
+  return impl_->ground.searches();
+}
+
+DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f& origin)
+{
+  DetectionResult out;
+  if (cloud.empty() || cloud.size() != static_cast<std::size_t>(cloud.width) * cloud.height || !origin.allFinite())
+    return out;
+
+  // ---- finite points in range, voxelised ----
+  const float range2 = params_.max_range * params_.max_range;
+  pcl::IndicesPtr valid(new pcl::Indices);
+  valid->reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+  {
+    const PointT& p = cloud[i];
+    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
+        (p.getVector3fMap() - origin).squaredNorm() <= range2)
+      valid->push_back(static_cast<pcl::index_t>(i));
+  }
+  if (valid->size() < 3)
+  {
+    out.ground_valid = params_.fixed_ground || impl_->ground.valid();
+    out.ground_assumed = !params_.fixed_ground && impl_->ground.assumed();
+    if (out.ground_valid)
+      out.ground = params_.fixed_ground ? Eigen::Vector4f(params_.ground / params_.ground.head<3>().norm())
+                                        : impl_->ground.plane();
+    return out;
+  }
+  auto voxels = pcl::make_shared<Cloud>();
+  {
+    pcl::VoxelGrid<PointT> grid;
+    grid.setInputCloud(borrow(cloud));
+    grid.setIndices(valid);
+    const float leaf = params_.detection_voxel_size;
+    grid.setLeafSize(leaf, leaf, leaf);
+    grid.filter(*voxels);
+  }
+
+  // ---- ground ----
+  Eigen::Vector4f ground;
+  if (params_.fixed_ground)
+  {
+    ground = params_.ground / params_.ground.head<3>().norm();
+    if (ground.head<3>().dot(origin) + ground[3] < 0.0f)
+      ground = -ground;
+  }
+  else
+  {
+    impl_->ground.update(*voxels, origin, params_.up_hint);
+    if (!impl_->ground.valid())
+      return out;
+    ground = impl_->ground.plane();
+    out.ground_assumed = impl_->ground.assumed();
+  }
+  out.ground = ground;
+  out.ground_valid = true;
+  const Eigen::Vector3f up = ground.head<3>();
+  const float camera_height = heightAbove(ground, origin);
+
+  // ---- a level frame: y down along the ground normal, z the mean horizontal viewing direction,
+  // origin at the camera. pcl::people reads heights and head maxima along a camera's y and x
+  // axes, so its classes get the cloud in this frame whatever the camera's tilt or the input frame.
+  Eigen::Vector3f mean_view = Eigen::Vector3f::Zero();
+  for (const auto& p : voxels->points)
+    mean_view += p.getVector3fMap() - origin;
+  Eigen::Vector3f ahead = mean_view - mean_view.dot(up) * up;
+  if (!(ahead.norm() > 1e-3f))
+    ahead = up.unitOrthogonal();
+  ahead.normalize();
+  Eigen::Matrix3f R;  // rows: level x, y, z in input coordinates
+  const Eigen::Vector3f down = -up;
+  R.row(0) = down.cross(ahead).transpose();
+  R.row(1) = down.transpose();
+  R.row(2) = ahead.transpose();
+
+  // ---- ground removal (also what lies below it: noise, reflections) ----
+  auto above = pcl::make_shared<Cloud>();  // input frame
+  auto level = pcl::make_shared<Cloud>();  // the same points in the level frame
+  above->reserve(voxels->size());
+  level->reserve(voxels->size());
+  for (const auto& p : voxels->points)
+  {
+    if (heightAbove(ground, p.getVector3fMap()) <= params_.ground_tolerance)
+      continue;
+    above->push_back(p);
+    PointT q = p;
+    q.getVector3fMap() = R * (p.getVector3fMap() - origin);
+    level->push_back(q);
+  }
+  if (above->size() < static_cast<std::size_t>(params_.min_points))
+    return out;
+
+  // ---- Euclidean clusters ----
+  std::vector<pcl::PointIndices> clusters;
+  auto tree = pcl::make_shared<pcl::search::KdTree<PointT>>();
+  {
+    tree->setInputCloud(level);
+    pcl::EuclideanClusterExtraction<PointT> ec;
+    ec.setClusterTolerance(params_.cluster_tolerance);
+    ec.setMinClusterSize(params_.min_points);
+    ec.setMaxClusterSize(std::numeric_limits<int>::max());
+    ec.setSearchMethod(tree);
+    ec.setInputCloud(level);
+    ec.extract(clusters);
+  }
+  if (clusters.empty())
+    return out;
+
+  // ---- pcl::people's head-based sub-clustering: merges parts close on the floor (a head cut off
+  // from its body), splits clusters with several head maxima (people side by side), and keeps
+  // clusters whose top lies between the height limits ----
+  std::vector<pcl::people::PersonCluster<PointT>> people;
+  {
+    pcl::people::HeadBasedSubclustering<PointT> sub;
+    Eigen::VectorXf level_ground(4);
+    level_ground << 0.0f, -1.0f, 0.0f, camera_height;
+    sub.setInputCloud(level);
+    sub.setGround(level_ground);
+    sub.setInitialClusters(clusters);
+    sub.setHeightLimits(params_.min_height, params_.max_height);
+    sub.setDimensionLimits(params_.min_points, std::numeric_limits<int>::max());
+    sub.setMinimumDistanceBetweenHeads(params_.min_head_distance);
+    sub.setSensorPortraitOrientation(false);
+    sub.subcluster(people);
+  }
+
+  // ---- pcl::people hands a point between two heads to the first head within min_head_distance
+  // (the taller one): give it to the nearest head on the floor instead, so that each person's
+  // cloud holds none of a neighbour's shoulder ----
+  std::vector<pcl::Indices> members(people.size());
+  {
+    std::vector<Eigen::Vector2f> heads(people.size(), Eigen::Vector2f::Zero());
+    for (std::size_t k = 0; k < people.size(); ++k)
+    {
+      const auto& idx = people[k].getIndices().indices;
+      float top_y = 1e9f;
+      for (const auto i : idx)
+        top_y = std::min(top_y, (*level)[i].y);
+      int n = 0;
+      for (const auto i : idx)
+        if ((*level)[i].y < top_y + 0.2f)
+        {
+          heads[k] += Eigen::Vector2f((*level)[i].x, (*level)[i].z);
+          ++n;
+        }
+      heads[k] /= static_cast<float>(std::max(1, n));
+    }
+    for (std::size_t k = 0; k < people.size(); ++k)
+      for (const auto i : people[k].getIndices().indices)
+      {
+        const Eigen::Vector2f q((*level)[i].x, (*level)[i].z);
+        std::size_t best = k;
+        for (std::size_t m = 0; m < people.size(); ++m)
+          if ((heads[m] - q).squaredNorm() < (heads[best] - q).squaredNorm())
+            best = m;
+        // Only between neighbours: a far-away head never takes points.
+        if (best != k && (heads[best] - q).norm() > params_.min_head_distance)
+          best = k;
+        members[best].push_back(i);
+      }
+  }
+
+  // ---- size limits, and a surface: a person's voxels have neighbours all around (scattered
+  // points have one or two within the clustering tolerance) ----
+  std::unordered_map<std::uint64_t, int> label_of_voxel;
+  const float inverse_leaf = 1.0f / params_.detection_voxel_size;
+  pcl::Indices neighbours;
+  std::vector<float> distances;
+  for (const auto& idx : members)
+  {
+    if (static_cast<int>(idx.size()) < params_.min_points)
+      continue;
+    std::size_t around = 0;
+    for (const auto i : idx)
+      around += static_cast<std::size_t>(tree->radiusSearch((*level)[i], params_.cluster_tolerance, neighbours, distances));
+    if (static_cast<float>(around) < kMinSurfaceNeighbours * static_cast<float>(idx.size()))
+      continue;
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo, sum = Eigen::Vector3f::Zero();
+    float top = -1e9f;
+    for (const auto i : idx)
+    {
+      const Eigen::Vector3f q = (*level)[i].getVector3fMap();
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+      sum += (*above)[i].getVector3fMap();
+      top = std::max(top, heightAbove(ground, (*above)[i].getVector3fMap()));
+    }
+    const float width = std::max(hi.x() - lo.x(), hi.z() - lo.z());
+    if (top < params_.min_height || top > params_.max_height || width < params_.min_width || width > params_.max_width)
+      continue;
+    PersonDetection d;
+    d.centroid = sum / static_cast<float>(idx.size());
+    d.height = top;
+    d.width = width;
+    d.voxels = static_cast<int>(idx.size());
+    const int label = static_cast<int>(out.people.size());
+    for (const auto i : idx)
+      label_of_voxel.emplace(voxelKey((*above)[i], inverse_leaf), label);
+    out.people.push_back(std::move(d));
+  }
+
+  // ---- HOG confirmation (organized clouds only: it needs the image) ----
+  Eigen::Matrix<float, 3, 4> P;
+  if (impl_->classifier && !out.people.empty() && fitProjection(cloud, P))
+  {
+    out.hog_applied = true;
+    auto image = pcl::make_shared<pcl::PointCloud<pcl::RGB>>(cloud.width, cloud.height);
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+    {
+      (*image)[i].r = cloud[i].r;
+      (*image)[i].g = cloud[i].g;
+      (*image)[i].b = cloud[i].b;
+    }
+    for (auto& d : out.people)
+    {
+      const Eigen::Vector3f foot = d.centroid - heightAbove(ground, d.centroid) * up;
+      const Eigen::Vector3f head = foot + d.height * up;
+      const Eigen::Vector3f a = P * foot.homogeneous(), b = P * head.homogeneous(),
+                            c = P * (0.5f * (foot + head)).homogeneous();
+      if (!(a.z() > 0 && b.z() > 0 && c.z() > 0))
+        continue;  // behind the camera's image plane: cannot be judged, kept
+      const float pixel_height = (a.hnormalized() - b.hnormalized()).norm();
+      d.hog_confidence = impl_->classifier->evaluate(pixel_height, c.x() / c.z(), c.y() / c.z(), image);
+    }
+    std::vector<PersonDetection> kept;
+    std::unordered_map<int, int> relabel;
+    for (std::size_t k = 0; k < out.people.size(); ++k)
+      if (!(out.people[k].hog_confidence < params_.hog_min_confidence))
+      {
+        relabel[static_cast<int>(k)] = static_cast<int>(kept.size());
+        kept.push_back(std::move(out.people[k]));
+      }
+    for (auto it = label_of_voxel.begin(); it != label_of_voxel.end();)
+    {
+      const auto r = relabel.find(it->second);
+      if (r == relabel.end())
+        it = label_of_voxel.erase(it);
+      else
+      {
+        it->second = r->second;
+        ++it;
+      }
+    }
+    out.people.swap(kept);
+  }
+
+  // ---- each person's points at full resolution: those falling in the person's detection voxels,
+  // above the ground ----
+  if (!out.people.empty())
+    for (const auto i : *valid)
+    {
+      const PointT& p = cloud[i];
+      const auto it = label_of_voxel.find(voxelKey(p, inverse_leaf));
+      if (it != label_of_voxel.end() && heightAbove(ground, p.getVector3fMap()) > params_.ground_tolerance)
+        out.people[it->second].indices.push_back(i);
+    }
+  return out;
+}
+
+boost::shared_ptr<Cloud> PeopleDetector::personCloud(const Cloud& cloud, const PersonDetection& person) const
+{
+  auto out = boost::make_shared<Cloud>();
+  out->header = cloud.header;
+  if (!person.indices.empty())
+  {
+    pcl::VoxelGrid<PointT> grid;
+    grid.setInputCloud(borrow(cloud));
+    grid.setIndices(pcl::make_shared<pcl::Indices>(person.indices));
+    const float leaf = params_.person_voxel_size;
+    grid.setLeafSize(leaf, leaf, leaf);
+    grid.filter(*out);
+    out->header = cloud.header;
+  }
+  out->width = static_cast<std::uint32_t>(out->size());
+  out->height = 1;
+  out->is_dense = true;
+  return out;
+}
+
+}  // namespace action_flow

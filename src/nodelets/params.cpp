@@ -1,0 +1,75 @@
+#include <action_flow/ros/params.h>
+
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+namespace
+{
+// ros::NodeHandle::param has no float overload that takes a float default with a double value type.
+void readFloat(const ros::NodeHandle& nh, const std::string& name, float& value)
+{
+  double v = value;
+  nh.param(name, v, v);
+  value = static_cast<float>(v);
+}
+}  // namespace
+
+RecognitionParams readRecognitionParams(const ros::NodeHandle& nh)
+{
+  RecognitionParams p;
+  readFloat(nh, "voxel_size", p.voxel_size);
+  nh.param("flow/k", p.flow.k, p.flow.k);
+  nh.param("flow/reciprocal", p.flow.reciprocal, p.flow.reciprocal);
+  nh.param("flow/reject_outliers", p.flow.reject_outliers, p.flow.reject_outliers);
+  readFloat(nh, "flow/min_speed", p.flow.min_speed);
+  readFloat(nh, "flow/isolation_speed", p.flow.isolation_speed);
+  readFloat(nh, "flow/neighbour_radius", p.flow.neighbour_radius);
+  nh.param("grid/parts_x", p.grid.parts_x, p.grid.parts_x);
+  nh.param("grid/parts_y", p.grid.parts_y, p.grid.parts_y);
+  nh.param("grid/parts_z", p.grid.parts_z, p.grid.parts_z);
+  readFloat(nh, "grid/width", p.grid.width);
+  readFloat(nh, "grid/height", p.grid.height);
+  readFloat(nh, "grid/depth", p.grid.depth);
+  readFloat(nh, "grid/reference_height", p.grid.reference_height);
+  std::string descriptor = toString(p.grid.aggregation);
+  nh.param("descriptor", descriptor, descriptor);
+  p.grid.aggregation = aggregationFromString(descriptor);
+  nh.param("frames", p.frames, p.frames);
+  nh.param("use_pca", p.use_pca, p.use_pca);
+  nh.param("pca_variance", p.pca_variance, p.pca_variance);
+  nh.param("neighbours", p.neighbours, p.neighbours);
+  return p;
+}
+
+TrackerParams readTrackerParams(const ros::NodeHandle& nh)
+{
+  TrackerParams p;
+  readFloat(nh, "detection_voxel_size", p.detection_voxel_size);
+  readFloat(nh, "person_voxel_size", p.person_voxel_size);
+  readFloat(nh, "max_range", p.max_range);
+  readFloat(nh, "min_height", p.min_height);
+  readFloat(nh, "max_height", p.max_height);
+  readFloat(nh, "min_width", p.min_width);
+  readFloat(nh, "max_width", p.max_width);
+  readFloat(nh, "ground_tolerance", p.ground_tolerance);
+  readFloat(nh, "cluster_tolerance", p.cluster_tolerance);
+  nh.param("min_points", p.min_points, p.min_points);
+  std::vector<double> ground;
+  if (nh.getParam("ground", ground))
+  {
+    if (ground.size() != 4)
+      throw std::invalid_argument("parameter ground must have 4 values a,b,c,d, has " +
+                                  std::to_string(ground.size()));
+    p.fixed_ground = true;
+    p.ground = Eigen::Vector4f(ground[0], ground[1], ground[2], ground[3]);
+  }
+  nh.param("hog_classifier_file", p.hog_classifier_file, p.hog_classifier_file);
+  readFloat(nh, "gate", p.gate);
+  nh.param("lost_after", p.lost_after, p.lost_after);
+  nh.param("confirm_after", p.confirm_after, p.confirm_after);
+  return p;
+}
+
+}  // namespace action_flow

@@ -1,0 +1,141 @@
+// People tracker stage: ground, detection and tracking (core PeopleTracker); each tracked person's cloud.
+#include <action_flow/TrackedPeople.h>
+#include <action_flow/people_tracker.h>
+#include <action_flow/ros/lazy_nodelet.h>
+#include <action_flow/ros/params.h>
+#include <action_flow/ros/stage_types.h>
+
+#include <pcl/common/transforms.h>
+#include <pcl_ros/point_cloud.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+namespace action_flow
+{
+/**
+ * Subscribes `cloud` (pcl::PointCloud<pcl::PointXYZRGB>); publishes `person_clouds`
+ * (PeopleClouds) and `people` (TrackedPeople). Parameters (private): the TrackerParams members
+ * (`ground` as a,b,c,d fixes the ground plane), `fixed_frame` (empty: work in the camera frame;
+ * else clouds are transformed into it with tf2, e.g. odom on a moving robot), `tf_timeout` (s).
+ */
+class PeopleTrackerNodelet : public LazyNodelet
+{
+  void onInit() override
+  {
+    ros::NodeHandle& pnh = getPrivateNodeHandle();
+    try
+    {
+      tracker_ = std::make_unique<PeopleTracker>(readTrackerParams(pnh));
+    }
+    catch (const std::exception& e)
+    {
+      NODELET_ERROR("bad tracker parameters (%s): using the defaults", e.what());
+      tracker_ = std::make_unique<PeopleTracker>();
+    }
+    pnh.param("fixed_frame", fixed_frame_, fixed_frame_);
+    pnh.param("tf_timeout", tf_timeout_, tf_timeout_);
+    if (!fixed_frame_.empty() && fixed_frame_[0] == '/')
+      fixed_frame_.erase(0, 1);
+    if (!fixed_frame_.empty())
+    {
+      tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+      tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, getNodeHandle());
+      NODELET_INFO("tracking in the fixed frame '%s'", fixed_frame_.c_str());
+    }
+    setSubscribe([this] { return getNodeHandle().subscribe("cloud", 5, &PeopleTrackerNodelet::onCloud, this); });
+    clouds_pub_ = advertiseLazy<PeopleClouds>("person_clouds", 10);
+    people_pub_ = advertiseLazy<TrackedPeople>("people", 10);
+  }
+
+  void onCloud(const boost::shared_ptr<const Cloud>& in)
+  {
+    std_msgs::Header header = pcl_conversions::fromPCL(in->header);
+    if (header.frame_id.empty())
+    {
+      NODELET_ERROR_THROTTLE(5, "input cloud has no frame id: skipped");
+      return;
+    }
+    if (header.frame_id[0] == '/')
+      header.frame_id.erase(0, 1);
+    if (in->empty())
+      NODELET_WARN_THROTTLE(10, "input cloud is empty");
+
+    boost::shared_ptr<const Cloud> cloud = in;
+    Eigen::Vector3f camera = Eigen::Vector3f::Zero();
+    if (tf_buffer_)
+    {
+      try
+      {
+        const auto t = tf_buffer_->lookupTransform(fixed_frame_, header.frame_id, header.stamp,
+                                                   ros::Duration(tf_timeout_));
+        const Eigen::Affine3f pose = tf2::transformToEigen(t).cast<float>();
+        auto moved = boost::make_shared<Cloud>();
+        pcl::transformPointCloud(*in, *moved, pose);
+        cloud = moved;
+        camera = pose.translation();
+        header.frame_id = fixed_frame_;
+      }
+      catch (const tf2::TransformException& e)
+      {
+        NODELET_ERROR_THROTTLE(5, "no transform from '%s' to fixed_frame '%s' (%s): cloud skipped",
+                               header.frame_id.c_str(), fixed_frame_.c_str(), e.what());
+        return;
+      }
+    }
+
+    TrackerResult result;
+    try
+    {
+      result = tracker_->update(*cloud, header.stamp.toSec(), camera);
+    }
+    catch (const std::exception& e)
+    {
+      NODELET_ERROR_THROTTLE(5, "tracker failed on a cloud of %zu points (%s): skipped", in->size(), e.what());
+      return;
+    }
+    if (result.reset)
+      NODELET_WARN_THROTTLE(5, "time went backwards: all tracks dropped");
+    if (!result.ground_valid)
+      NODELET_WARN_THROTTLE(10, "no ground plane found yet (frame '%s')", header.frame_id.c_str());
+
+    auto out = boost::make_shared<PeopleClouds>();
+    out->header = header;
+    out->lost = result.lost;
+    out->reset = result.reset;
+    out->source = in;
+    auto people = boost::make_shared<TrackedPeople>();
+    people->header = header;
+    people->lost = result.lost;
+    people->reset = result.reset;
+    people->ground_valid = result.ground_valid;
+    for (int i = 0; i < 4; ++i)
+      people->ground[i] = result.ground[i];
+    for (auto& person : result.people)
+    {
+      PeopleClouds::Person p;
+      p.info.id = person.id;
+      p.info.position = person.position;
+      p.info.velocity = person.velocity;
+      p.info.height = person.height;
+      p.info.frame = person.frame;
+      p.cloud = person.cloud;
+      people->people.push_back(toMessage(p.info));
+      out->people.push_back(std::move(p));
+    }
+    clouds_pub_.publish(out);
+    people_pub_.publish(people);
+  }
+
+  std::unique_ptr<PeopleTracker> tracker_;
+  std::string fixed_frame_;
+  double tf_timeout_ = 0.1;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  ros::Publisher clouds_pub_, people_pub_;
+};
+
+}  // namespace action_flow
+
+PLUGINLIB_EXPORT_CLASS(action_flow::PeopleTrackerNodelet, nodelet::Nodelet)

@@ -1,0 +1,478 @@
+// Rostest node for the nodelets, each test case run by its own .test file (--gtest_filter):
+// each stage alone on hand-built input, lazy subscription, zero copy, the Dummy driver, bad input.
+// This node is another process, so everything it reads or writes went through serialization.
+#include "test_helpers.h"
+
+#include <action_flow/ActionLabel.h>
+#include <action_flow/Classify.h>
+#include <action_flow/FrameDescriptorArray.h>
+#include <action_flow/PersonFlowArray.h>
+#include <action_flow/grid_descriptor.h>
+#include <action_flow/ros/stage_types.h>
+
+#include <gtest/gtest.h>
+#include <nodelet/NodeletUnload.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <std_msgs/String.h>
+
+#include <cmath>
+#include <sstream>
+
+using namespace action_flow;
+using action_flow::test::Collector;
+using action_flow::test::waitFor;
+
+namespace
+{
+constexpr int kDescriptorSize = 192;
+
+/** Counts /rosout messages of at least @p level containing @p text. */
+class LogWatch
+{
+public:
+  LogWatch(ros::NodeHandle& nh, std::string text, std::uint8_t level)
+    : log_(nh, "/rosout", 1000), text_(std::move(text)), level_(level)
+  {
+  }
+  std::size_t count() const
+  {
+    std::size_t n = 0;
+    for (const auto& m : log_.messages())
+      if (m->level >= level_ && m->msg.find(text_) != std::string::npos)
+        ++n;
+    return n;
+  }
+
+private:
+  Collector<rosgraph_msgs::Log> log_;
+  std::string text_;
+  std::uint8_t level_;
+};
+
+FrameDescriptorArray descriptorFrame(std::uint32_t track, int axis, double stamp)
+{
+  FrameDescriptorArray m;
+  m.header.stamp = ros::Time(stamp);
+  m.header.frame_id = "camera_rgb_optical_frame";
+  FrameDescriptor d;
+  d.track_id = track;
+  d.status = PersonFlow::FLOW;
+  d.values.assign(kDescriptorSize, 0.0f);
+  d.values[axis] = 1.0f;
+  m.descriptors.push_back(d);
+  return m;
+}
+
+/** Publishes @p n frames of track @p track whose descriptors are all e_axis, from @p t0 at 15 Hz. */
+double publishTrack(ros::Publisher& pub, std::uint32_t track, int axis, int n, double t0)
+{
+  double t = t0;
+  for (int i = 0; i < n; ++i, t += 1.0 / 15)
+  {
+    pub.publish(descriptorFrame(track, axis, t));
+    ros::WallDuration(0.005).sleep();
+  }
+  return t;
+}
+
+void publishLost(ros::Publisher& pub, std::uint32_t track, double stamp)
+{
+  FrameDescriptorArray m;
+  m.header.stamp = ros::Time(stamp);
+  m.lost.push_back(track);
+  pub.publish(m);
+}
+
+bool waitForSubscriber(const ros::Publisher& pub)
+{
+  return waitFor([&] { return pub.getNumSubscribers() > 0; }, 10.0);
+}
+}  // namespace
+
+// ---- flow stage alone ----------------------------------------------------------------------------
+TEST(Flow, WavingForearmGivesFlowOnTheForearm)
+{
+  ros::NodeHandle nh;
+  Collector<PeopleFlow> flow(nh, "flow");
+  ASSERT_TRUE(flow.waitForCount(30, 15.0)) << "flow stage published " << flow.size() << " messages";
+  // The elbow of the test scene in the camera frame; the forearm (0.3 m) turns about it.
+  const Eigen::Vector3f elbow(0.45f, 0.06f, 2.5f);
+  std::size_t vectors = 0, near_forearm = 0, frames_with_flow = 0;
+  float fastest = 0.0f;
+  const auto messages = flow.messages();
+  for (std::size_t i = 0; i < messages.size(); ++i)
+  {
+    ASSERT_EQ(messages[i]->people.size(), 1u);
+    const auto& p = messages[i]->people[0];
+    EXPECT_EQ(p.info.id, 1u);
+    if (i > 0)
+      EXPECT_EQ(p.status, PeopleFlow::kFlow) << "message " << i;
+    if (!p.flow || p.flow->empty())
+      continue;
+    ++frames_with_flow;
+    for (const auto& f : *p.flow)
+    {
+      ++vectors;
+      near_forearm += (f.position - elbow).norm() < 0.36f;
+      EXPECT_GE(f.velocity.norm(), 0.3f - 1e-4f) << "slower than min_speed survived";
+      fastest = std::max(fastest, f.velocity.norm());
+    }
+  }
+  EXPECT_GE(frames_with_flow, 10u);
+  EXPECT_GE(near_forearm, 0.8 * vectors) << near_forearm << " of " << vectors << " flow vectors on the forearm";
+  // Forearm tip: 0.3 m x 0.9 rad x 2 pi x 0.8 Hz = 1.36 m/s at most.
+  EXPECT_GT(fastest, 0.5f);
+  EXPECT_LT(fastest, 2.5f);
+}
+
+TEST(Flow, LostTrackAndTimeGoingBackDropState)
+{
+  ros::NodeHandle nh;
+  Collector<PeopleFlow> flow(nh, "flow");
+  ASSERT_TRUE(flow.waitForCount(40, 15.0));
+  bool saw_lost = false, saw_reset = false;
+  const auto m = flow.messages();
+  for (std::size_t i = 1; i < m.size(); ++i)
+  {
+    ASSERT_EQ(m[i]->people.size(), 1u);
+    const auto& p = m[i]->people[0];
+    if (!m[i]->lost.empty())
+    {
+      saw_lost = true;
+      EXPECT_NE(m[i]->lost[0], p.info.id);
+      EXPECT_EQ(p.status, PeopleFlow::kFirst) << "a new track must start without flow";
+    }
+    if (m[i]->reset)
+    {
+      saw_reset = true;
+      EXPECT_LT(m[i]->header.stamp, m[i - 1]->header.stamp);
+      EXPECT_EQ(p.status, PeopleFlow::kFirst) << "after time went back the state must be dropped";
+      EXPECT_TRUE(!p.flow || p.flow->empty());
+    }
+    else if (m[i]->lost.empty() && m[i - 1]->lost.empty() && !m[i - 1]->reset &&
+             m[i - 1]->people[0].info.id == p.info.id)
+      EXPECT_EQ(p.status, PeopleFlow::kFlow) << "message " << i;
+  }
+  EXPECT_TRUE(saw_lost);
+  EXPECT_TRUE(saw_reset);
+}
+
+TEST(Flow, BadPersonCloudsKeepTheStageServing)
+{
+  ros::NodeHandle nh;
+  Collector<PeopleFlow> nan(nh, "nan/flow"), empty(nh, "empty/flow");
+  ASSERT_TRUE(nan.waitForCount(5, 15.0)) << "the flow stage stopped on NaN-only person clouds";
+  ASSERT_TRUE(empty.waitForCount(5, 15.0)) << "the flow stage stopped on empty person clouds";
+  for (const auto& c : { &nan, &empty })
+    for (const auto& m : c->messages())
+      for (const auto& p : m->people)
+        EXPECT_TRUE(!p.flow || p.flow->empty());
+}
+
+// ---- descriptor stage alone ------------------------------------------------------------------------
+TEST(Descriptor, HandBuiltFlowGivesTheCoreDescriptor)
+{
+  ros::NodeHandle nh;
+  Collector<FrameDescriptorArray> out(nh, "descriptors");
+  ros::Publisher pub = nh.advertise<PersonFlowArray>("flow", 10);
+  ASSERT_TRUE(waitForSubscriber(pub)) << "the descriptor stage did not subscribe to flow";
+
+  action_flow::PersonFrame where;  // grid axes = the frame's axes, feet at the origin
+  where.height = 1.75f;
+  FlowVectors vectors = { { Eigen::Vector3f(0.3f, 1.0f, 0.1f), Eigen::Vector3f(1.0f, 0.0f, 0.0f) },
+                          { Eigen::Vector3f(-0.3f, 0.5f, 0.0f), Eigen::Vector3f(0.0f, 2.0f, 0.0f) } };
+  PeopleFlow in;
+  in.header.stamp = ros::Time(100.0);
+  in.header.frame_id = "camera_rgb_optical_frame";
+  in.lost = { 3 };
+  PeopleFlow::Person moving;
+  moving.info.id = 5;
+  moving.info.height = 1.75f;
+  moving.info.frame = where;
+  moving.status = PeopleFlow::kFlow;
+  moving.flow = boost::make_shared<const FlowVectors>(vectors);
+  PeopleFlow::Person first = moving;
+  first.info.id = 6;
+  first.status = PeopleFlow::kFirst;
+  first.flow.reset();
+  in.people = { moving, first };
+  pub.publish(toMessage(in));
+  ASSERT_TRUE(out.waitForCount(1, 5.0));
+
+  const auto m = out.messages()[0];
+  EXPECT_EQ(m->header.stamp, in.header.stamp);
+  EXPECT_EQ(m->lost, in.lost);
+  ASSERT_EQ(m->descriptors.size(), 2u);
+  EXPECT_EQ(m->descriptors[0].track_id, 5u);
+  ASSERT_EQ(m->descriptors[0].values.size(), static_cast<std::size_t>(kDescriptorSize));
+  const Eigen::VectorXf expected = GridDescriptor().compute(vectors, where);
+  int nonzero = 0;
+  for (int i = 0; i < kDescriptorSize; ++i)
+  {
+    EXPECT_NEAR(m->descriptors[0].values[i], expected[i], 1e-6f) << "value " << i;
+    nonzero += m->descriptors[0].values[i] != 0.0f;
+  }
+  EXPECT_EQ(nonzero, 2);  // two vectors along one axis each, in two different cubes
+  EXPECT_NEAR(Eigen::Map<const Eigen::VectorXf>(m->descriptors[0].values.data(), kDescriptorSize).norm(), 1.0f, 1e-5f);
+  // head: 1.75 m up the frame's y axis from the origin
+  EXPECT_NEAR(m->descriptors[0].head.y, 1.75, 1e-5);
+  EXPECT_EQ(m->descriptors[1].track_id, 6u);
+  EXPECT_EQ(m->descriptors[1].status, PersonFlow::FIRST);
+  EXPECT_TRUE(m->descriptors[1].values.empty());
+}
+
+// ---- classifier stage alone (model: "raise" = all frames e_0, "push" = all frames e_1, F = 30) ----
+TEST(Classifier, SegmentedTrackEndServiceAndEndOfInput)
+{
+  ros::NodeHandle nh;
+  Collector<ActionLabel> labels(nh, "labels");
+  ros::Publisher pub = nh.advertise<FrameDescriptorArray>("descriptors", 200);
+  ASSERT_TRUE(waitForSubscriber(pub)) << "the classifier did not subscribe to descriptors";
+
+  // 1. A track ends: its whole sequence is classified.
+  double t = publishTrack(pub, 7, 0, 12, 10.0);
+  publishLost(pub, 7, t);
+  ASSERT_TRUE(labels.waitForCount(1, 5.0));
+  auto l = labels.messages()[0];
+  EXPECT_EQ(l->track_id, 7u);
+  EXPECT_EQ(l->label, "raise");
+  EXPECT_NEAR(l->distance, 0.0f, 1e-3f);
+  EXPECT_NEAR(l->margin, std::sqrt(2.0f * 30), 1e-3f);  // |e_0 - e_1| over 30 frames
+  EXPECT_NEAR(l->window_start.toSec(), 10.0, 1e-6);
+  EXPECT_NEAR(l->window_end.toSec(), 10.0 + 11.0 / 15, 1e-6);
+  EXPECT_EQ(l->mode, ActionLabel::SEGMENTED);
+
+  // 2. A service call classifies the open sequences.
+  t = publishTrack(pub, 8, 1, 10, t + 0.1);
+  ros::WallDuration(0.3).sleep();
+  ros::ServiceClient client = nh.serviceClient<Classify>("classifier/classify");
+  Classify srv;
+  ASSERT_TRUE(client.call(srv));
+  ASSERT_EQ(srv.response.labels.size(), 1u) << srv.response.message;
+  EXPECT_EQ(srv.response.labels[0].track_id, 8u);
+  EXPECT_EQ(srv.response.labels[0].label, "push");
+  ASSERT_TRUE(labels.waitForCount(2, 5.0));
+
+  // 3. Input stops: after end_of_input_timeout the open sequence is classified.
+  t = publishTrack(pub, 9, 0, 10, t + 0.1);
+  ASSERT_TRUE(labels.waitForCount(3, 5.0)) << "no label at the end of input";
+  EXPECT_EQ(labels.messages()[2]->track_id, 9u);
+  EXPECT_EQ(labels.messages()[2]->label, "raise");
+
+  // 4. Time goes back within a track: what came before is dropped. 20 "raise" frames, then 8
+  //    "push" frames stamped earlier: only the latter may count.
+  t = publishTrack(pub, 10, 0, 20, t + 0.1);
+  t = publishTrack(pub, 10, 1, 8, t - 5.0);
+  publishLost(pub, 10, t);
+  ASSERT_TRUE(labels.waitForCount(4, 5.0));
+  EXPECT_EQ(labels.messages()[3]->track_id, 10u);
+  EXPECT_EQ(labels.messages()[3]->label, "push");
+  EXPECT_NEAR(labels.messages()[3]->distance, 0.0f, 1e-3f);
+}
+
+TEST(Classifier, OnlinePublishesEachStableLabelOnce)
+{
+  ros::NodeHandle nh;
+  Collector<ActionLabel> labels(nh, "labels");
+  ros::Publisher pub = nh.advertise<FrameDescriptorArray>("descriptors", 200);
+  ASSERT_TRUE(waitForSubscriber(pub));
+  double t = publishTrack(pub, 4, 1, 40, 50.0);
+  ASSERT_TRUE(labels.waitForCount(1, 5.0));
+  t = publishTrack(pub, 4, 0, 40, t);
+  ASSERT_TRUE(labels.waitForCount(2, 5.0));
+  ros::WallDuration(0.5).sleep();
+  const auto l = labels.messages();
+  ASSERT_EQ(l.size(), 2u) << "a stable label was published more than once";
+  EXPECT_EQ(l[0]->label, "push");
+  EXPECT_EQ(l[1]->label, "raise");
+  for (const auto& m : l)
+  {
+    EXPECT_EQ(m->mode, ActionLabel::ONLINE);
+    EXPECT_EQ(m->track_id, 4u);
+    const double span = (m->window_end - m->window_start).toSec();
+    EXPECT_GE(span, 0.8 - 1e-6);  // min_coverage x window
+    EXPECT_LE(span, 1.0 + 1e-6);  // window
+  }
+}
+
+TEST(Classifier, MissingCorruptOrMismatchedModelIsReportedAndTheRestRuns)
+{
+  ros::NodeHandle nh;
+  struct Case
+  {
+    std::string name, expect;
+  };
+  const std::vector<Case> cases = { { "missing", "missing or unreadable" },
+                                    { "corrupt", "checksum mismatch" },
+                                    { "mismatch", "frames: model 30, runtime 20" } };
+  std::vector<std::unique_ptr<Collector<ActionStates>>> states;
+  for (const auto& c : cases)
+    states.push_back(std::make_unique<Collector<ActionStates>>(nh, c.name + "/states"));
+  ros::Publisher pub = nh.advertise<FrameDescriptorArray>("descriptors", 200);
+  // The three classifiers share one connection (one process), so wait for their states instead.
+  ASSERT_TRUE(waitForSubscriber(pub));
+  double t = 1.0;
+  const bool all_serving = waitFor(
+      [&] {
+        t = publishTrack(pub, 3, 0, 2, t);
+        for (const auto& s : states)
+          if (s->size() < 10)
+            return false;
+        return true;
+      },
+      10.0);
+  EXPECT_TRUE(all_serving) << "a classifier without a usable model stopped publishing its per-frame state";
+  for (std::size_t i = 0; i < cases.size(); ++i)
+  {
+    ros::ServiceClient client = nh.serviceClient<Classify>("classifier_" + cases[i].name + "/classify");
+    Classify srv;
+    ASSERT_TRUE(client.call(srv)) << cases[i].name << ": the classifier is not serving";
+    EXPECT_NE(srv.response.message.find("not classifying"), std::string::npos) << srv.response.message;
+    EXPECT_NE(srv.response.message.find(cases[i].expect), std::string::npos) << srv.response.message;
+    EXPECT_TRUE(srv.response.labels.empty());
+  }
+}
+
+// ---- lazy subscription ---------------------------------------------------------------------------
+TEST(Lazy, NobodyOnTheOutputsMeansNoUpstreamSubscription)
+{
+  ros::NodeHandle nh, pnh("~");
+  std::vector<std::string> upstream;
+  ASSERT_TRUE(pnh.getParam("upstream", upstream));
+  auto idle = [&] {
+    for (const auto& t : upstream)
+      if (!test::subscribersOf(t).empty())
+        return false;
+    return true;
+  };
+  auto busy = [&] {
+    for (const auto& t : upstream)
+      if (test::subscribersOf(t).empty())
+        return false;
+    return true;
+  };
+  ros::WallDuration(1.0).sleep();  // every nodelet loaded
+  EXPECT_TRUE(idle()) << "with nobody listening to labels, a stage subscribed upstream";
+  {
+    Collector<ActionLabel> labels(nh, "labels");
+    EXPECT_TRUE(waitFor(busy, 5.0)) << "a listener on labels did not wake the stages up";
+    labels.shutdown();
+  }
+  EXPECT_TRUE(waitFor(idle, 5.0)) << "the stages kept their subscriptions after the listener left";
+}
+
+// ---- zero copy -------------------------------------------------------------------------------------
+TEST(ZeroCopy, EveryStageReceivesThePublishedObject)
+{
+  ros::NodeHandle nh, pnh("~");
+  std::vector<std::string> links;
+  ASSERT_TRUE(pnh.getParam("links", links));
+  Collector<std_msgs::String> report(nh, "probe/report");
+  auto counts = [&](const std::string& link, int& same, int& other) {
+    const auto m = report.messages();
+    if (m.empty())
+      return false;
+    const std::string& r = m.back()->data;
+    const auto at = r.find(link + " ");
+    if (at == std::string::npos)
+      return false;
+    std::istringstream in(r.substr(at + link.size()));
+    return static_cast<bool>(in >> same >> other);
+  };
+  auto enough = [&] {
+    for (const auto& l : links)
+    {
+      int same = 0, other = 0;
+      if (!counts(l, same, other) || same < 10)
+        return false;
+    }
+    return true;
+  };
+  EXPECT_TRUE(waitFor(enough, 20.0)) << (report.size() ? report.messages().back()->data : "no report");
+  ASSERT_GT(report.size(), 0u);
+  for (const std::string l : { "cloud>person_clouds", "person_clouds>flow", "flow>descriptors", "descriptors>states" })
+  {
+    int same = 0, other = 0;
+    ASSERT_TRUE(counts(l, same, other)) << report.messages().back()->data;
+    EXPECT_EQ(other, 0) << l << ": a stage received a copy, not the published object";
+  }
+}
+
+TEST(ZeroCopy, TheProbeSeesACopyWhenAStageRunsInAnotherProcess)
+{
+  // The flow stage runs as a standalone node here: what it receives was serialized and rebuilt,
+  // so its output's source is not the object the previous stage published.
+  ros::NodeHandle nh;
+  Collector<std_msgs::String> report(nh, "probe/report");
+  auto copies = [&] {
+    if (report.size() == 0)
+      return 0;
+    const std::string r = report.messages().back()->data;
+    std::istringstream in(r.substr(r.find("person_clouds>flow ") + 19));
+    int same = -1, other = -1;
+    in >> same >> other;
+    return same == 0 ? other : -1;
+  };
+  EXPECT_TRUE(waitFor([&] { return copies() >= 10; }, 20.0))
+      << (report.size() ? report.messages().back()->data : "no report");
+}
+
+// ---- driver ----------------------------------------------------------------------------------------
+TEST(Driver, DummyDevicePublishesCloudsWhileSubscribed)
+{
+  ros::NodeHandle nh;
+  LogWatch started(nh, "streaming from", rosgraph_msgs::Log::INFO);
+  LogWatch stopped(nh, "streams stopped", rosgraph_msgs::Log::INFO);
+  ros::WallDuration(0.5).sleep();
+  EXPECT_EQ(started.count(), 0u) << "streams ran with nobody subscribed";
+  {
+    Collector<sensor_msgs::PointCloud2> clouds(nh, "cloud", 5);
+    Collector<sensor_msgs::CameraInfo> info(nh, "camera_info", 5);
+    ASSERT_TRUE(clouds.waitForCount(5, 10.0)) << "no clouds from the Dummy device";
+    ASSERT_TRUE(info.waitForCount(1, 5.0));
+    const auto c = clouds.messages().back();
+    EXPECT_EQ(c->width, 320u);
+    EXPECT_EQ(c->height, 240u);
+    EXPECT_EQ(c->header.frame_id, "camera_rgb_optical_frame");
+    std::size_t finite = 0;
+    for (sensor_msgs::PointCloud2ConstIterator<float> z(*c, "z"); z != z.end(); ++z)
+      finite += std::isfinite(*z);
+    EXPECT_GT(finite, 0u) << "the Dummy device's depth gave no point";
+    const auto i = info.messages().back();
+    EXPECT_EQ(i->header.frame_id, c->header.frame_id);
+    EXPECT_NEAR(i->K[0], 262.5, 1e-6) << "default Kinect intrinsics at 320x240";
+    clouds.shutdown();
+    info.shutdown();
+  }
+  EXPECT_TRUE(waitFor([&] { return started.count() > 0; }, 3.0));
+  EXPECT_TRUE(waitFor([&] { return stopped.count() > 0; }, 5.0)) << "streams kept running after the last subscriber left";
+}
+
+TEST(Driver, AbsentDeviceIsRetriedAndTheNodeletUnloads)
+{
+  ros::NodeHandle nh;
+  LogWatch errors(nh, "cannot open OpenNI2 device", rosgraph_msgs::Log::ERROR);
+  Collector<sensor_msgs::PointCloud2> clouds(nh, "cloud", 5);
+  EXPECT_TRUE(waitFor([&] { return errors.count() >= 2; }, 8.0)) << "no repeated clear error for an absent device";
+  ros::ServiceClient unload = nh.serviceClient<nodelet::NodeletUnload>("manager/unload_nodelet");
+  nodelet::NodeletUnload srv;
+  srv.request.name = "/driver";
+  const auto before = ros::WallTime::now();
+  ASSERT_TRUE(unload.call(srv));
+  EXPECT_TRUE(srv.response.success);
+  EXPECT_LT((ros::WallTime::now() - before).toSec(), 3.0) << "the driver's thread did not stop promptly";
+  EXPECT_EQ(clouds.size(), 0u);
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_stages");
+  ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
