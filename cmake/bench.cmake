@@ -18,3 +18,14 @@ if(CATKIN_ENABLE_TESTING)
     test/bench/test_bench_parts.cpp)
   target_link_libraries(test_bench action_flow_bench action_flow_core gtest_main)
 endif()
+
+# The benchmark takes its frames from the virtual Kinect and times the people tracker when those
+# parts are in the tree; without them it uses its own generated person and skips the tracker.
+if(TARGET action_flow_synth)
+  target_compile_definitions(bench PRIVATE ACTION_FLOW_BENCH_SYNTH)
+  target_link_libraries(bench action_flow_synth)
+endif()
+if(TARGET action_flow_tracker)
+  target_compile_definitions(bench PRIVATE ACTION_FLOW_BENCH_TRACKER)
+  target_link_libraries(bench action_flow_tracker)
+endif()

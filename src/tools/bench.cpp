@@ -10,8 +10,18 @@
 #include <action_flow/grid_descriptor.h>
 #include <action_flow/pca.h>
 #include <action_flow/sequence_descriptor.h>
+#ifdef ACTION_FLOW_BENCH_SYNTH
+#include <action_flow/synth/synth.h>
+#endif
+#ifdef ACTION_FLOW_BENCH_TRACKER
+#include <action_flow/people_tracker.h>
+#endif
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -26,25 +36,33 @@ using namespace action_flow::bench;
 
 namespace
 {
+#ifdef ACTION_FLOW_BENCH_SYNTH
+const char* const kDefaultSource = "synth";
+#else
+const char* const kDefaultSource = "generated";
+#endif
+
 struct Options
 {
   int pairs = 200;
-  std::vector<float> voxels{ 0.06f, 0.02f, 0.01f };
+  std::vector<float> voxels{ 0.06f, 0.04f, 0.02f, 0.01f };
   int k = 50;
   double octree_resolution = 0.0;  // 0: the voxel size
   int training = 540;
   int queries = 300;
   bool baseline = true;
   bool classification = true;
+  bool tracker = true;
+  std::string source = kDefaultSource;
 };
 
 [[noreturn]] void usage(const std::string& error)
 {
   std::fprintf(stderr, "bench: %s\n", error.c_str());
   std::fprintf(stderr,
-               "usage: bench [--pairs N (>=1, default 200)] [--voxels 0.06,0.02,0.01] [--k 50]\n"
+               "usage: bench [--pairs N (>=1, default 200)] [--voxels 0.06,0.04,0.02,0.01] [--k 50]\n"
                "             [--octree-resolution M (default: the voxel size)] [--training 540] [--queries 300]\n"
-               "             [--no-baseline] [--no-classification]\n");
+               "             [--source synth|generated] [--no-baseline] [--no-classification] [--no-tracker]\n");
   std::exit(2);
 }
 
@@ -82,6 +100,10 @@ Options parse(int argc, char** argv)
       o.baseline = false;
     else if (a == "--no-classification")
       o.classification = false;
+    else if (a == "--no-tracker")
+      o.tracker = false;
+    else if (a == "--source")
+      o.source = value();
     else if (a == "--voxels")
     {
       o.voxels.clear();
@@ -97,6 +119,13 @@ Options parse(int argc, char** argv)
   }
   if (o.pairs < 1 || o.k < 1 || o.training < 2 || o.queries < 1 || o.octree_resolution < 0 || o.voxels.empty())
     usage("--pairs, --k, --queries must be >= 1, --training >= 2, --octree-resolution >= 0, --voxels not empty");
+#ifdef ACTION_FLOW_BENCH_SYNTH
+  if (o.source != "synth" && o.source != "generated")
+    usage("--source must be synth or generated");
+#else
+  if (o.source != "generated")
+    usage("--source must be generated (this build has no synth part)");
+#endif
   for (float v : o.voxels)
     if (!(v >= 0.002f && v <= 0.2f))
       usage("voxel sizes must be in [0.002, 0.2] m");
@@ -130,7 +159,15 @@ void header(const char* title)
               std::string(10, '-').c_str());
 }
 
-void benchFlow(const Options& o, float voxel, const std::vector<Cloud>& clouds, const MovingPerson& person)
+// One person's clouds in consecutive frames, at one voxel size.
+struct PersonSequence
+{
+  std::vector<Cloud> clouds;
+  std::vector<double> stamps;
+  Eigen::Vector4f ground;  // in the clouds' frame, normal up
+};
+
+void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>& sequences)
 {
   FlowParams fp;
   fp.k = o.k;
@@ -139,12 +176,16 @@ void benchFlow(const Options& o, float voxel, const std::vector<Cloud>& clouds, 
   const GridDescriptor grid;
   StageSamples o_build, o_match, o_vel, o_out, o_total, o_desc, b_build, b_match, b_vel, b_out, b_total;
   std::size_t points = 0, kept = 0, b_kept = 0, agree = 0, ours_matches = 0, base_matches = 0;
-  std::unique_ptr<FlowFrame> prev = std::make_unique<FlowFrame>(clouds[0], person.stamp(0));
-  std::unique_ptr<OctreeFlowBaseline::Frame> bprev = base.prepare(clouds[0], person.stamp(0));
-  const Eigen::Vector4f ground(0, -1, 0, person.params().camera_height);  // optical frame: y down
-  for (int i = 1; i <= o.pairs; ++i)
+  int pairs = 0;
+  for (const PersonSequence& seq : sequences)
   {
-    const double stamp = person.stamp(i);
+  std::unique_ptr<FlowFrame> prev = std::make_unique<FlowFrame>(seq.clouds[0], seq.stamps[0]);
+  std::unique_ptr<OctreeFlowBaseline::Frame> bprev = base.prepare(seq.clouds[0], seq.stamps[0]);
+  const Eigen::Vector4f ground = seq.ground;
+  for (std::size_t i = 1; i < seq.clouds.size() && pairs < o.pairs; ++i, ++pairs)
+  {
+    const double stamp = seq.stamps[i];
+    const std::vector<Cloud>& clouds = seq.clouds;
     points += clouds[i].size();
     auto runOurs = [&]() {
       Stopwatch w;
@@ -218,9 +259,12 @@ void benchFlow(const Options& o, float voxel, const std::vector<Cloud>& clouds, 
       base_matches += mb.size();
     }
   }
+  }
+  if (pairs < 1)
+    throw std::runtime_error("no frame pairs to time");
   char title[256];
   std::snprintf(title, sizeof title, "### Flow, voxel %.2f m: person clouds of %.0f points on average, %d frame pairs, K = %d",
-                voxel, points / static_cast<double>(o.pairs), o.pairs, o.k);
+                voxel, points / static_cast<double>(pairs), pairs, o.k);
   header(title);
   const StageSamples* none = nullptr;
   row("tree build", o_build, o.baseline ? &b_build : none);
@@ -229,12 +273,12 @@ void benchFlow(const Options& o, float voxel, const std::vector<Cloud>& clouds, 
   row("outlier removal", o_out, o.baseline ? &b_out : none);
   row("flow step total", o_total, o.baseline ? &b_total : none);
   row("descriptor", o_desc, none);
-  std::printf("\nflow vectors kept per frame: ours %.1f", kept / static_cast<double>(o.pairs));
+  const double np = pairs;
+  std::printf("\nflow vectors kept per frame: ours %.1f", kept / np);
   if (o.baseline)
     std::printf(", baseline %.1f; reciprocal correspondences: ours %.1f, baseline %.1f per frame, %.2f %% of ours "
                 "identical in the baseline",
-                b_kept / static_cast<double>(o.pairs), ours_matches / static_cast<double>(o.pairs),
-                base_matches / static_cast<double>(o.pairs), 100.0 * agree / std::max<std::size_t>(1, ours_matches));
+                b_kept / np, ours_matches / np, base_matches / np, 100.0 * agree / std::max<std::size_t>(1, ours_matches));
   std::printf("\n");
   std::fflush(stdout);
 }
@@ -302,25 +346,101 @@ void benchClassification(const Options& o)
 }
 }  // namespace
 
+// Renders the frames once, cuts out the person (the renderer's mask), voxelises it at every size,
+// and times the people tracker on the full frames on the way.
+void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>>& by_voxel, StageSamples& tracker_time,
+                   std::size_t& tracker_people)
+{
+#ifdef ACTION_FLOW_BENCH_TRACKER
+  std::unique_ptr<PeopleTracker> tracker;
+  if (o.tracker)
+    tracker = std::make_unique<PeopleTracker>();
+#endif
+  auto addFrame = [&](const Cloud& full, const std::vector<std::uint8_t>& mask, double stamp, bool first,
+                      const Eigen::Vector4f& ground) {
+    Cloud person;
+    for (std::size_t k = 0; k < full.size(); ++k)
+      if (mask[k] && std::isfinite(full.points[k].z))
+        person.push_back(full.points[k]);
+    for (float v : o.voxels)
+    {
+      auto& seqs = by_voxel[v];
+      if (first)
+        seqs.push_back(PersonSequence{ {}, {}, ground });
+      seqs.back().clouds.push_back(voxelise(person, v));
+      seqs.back().stamps.push_back(stamp);
+    }
+#ifdef ACTION_FLOW_BENCH_TRACKER
+    if (tracker)
+    {
+      Stopwatch w;
+      const TrackerResult r = tracker->update(full, stamp);
+      tracker_time.add(w.seconds());
+      tracker_people += r.people.size();
+    }
+#else
+    (void)tracker_time;
+    (void)tracker_people;
+#endif
+  };
+  int pairs = 0;
+  Cloud full;
+  std::vector<std::uint8_t> mask;
+  Stopwatch w;
+#ifdef ACTION_FLOW_BENCH_SYNTH
+  if (o.source == "synth")
+  {
+    for (int p = 1; pairs < o.pairs; ++p)
+    {
+      synth::SampleSpec spec;
+      char id[16];
+      std::snprintf(id, sizeof id, "p%02d", p);
+      spec.person = id;
+      spec.action = "wave";
+      const synth::SampleRenderer sample(spec);
+      const Eigen::Isometry3f pose = sample.camera().worldFromOptical();
+      // The floor (world z = 0) in the optical frame: normal = world up seen from the camera.
+      const Eigen::Vector3f up = pose.linear().row(2).transpose();
+      const Eigen::Vector4f ground(up.x(), up.y(), up.z(), pose.translation().z());
+      const int frames = std::min(sample.frames(), o.pairs - pairs + 1);
+      for (int i = 0; i < frames; ++i)
+      {
+        sample.render(i, full, &mask);
+        addFrame(full, mask, sample.stamp(i), i == 0, ground);
+      }
+      pairs += frames - 1;
+      std::printf("  rendered %s_wave_1: %d frames (%d pairs so far, %.0f s)\n", id, frames, pairs, w.seconds());
+      std::fflush(stdout);
+    }
+    return;
+  }
+#endif
+  const MovingPerson person;
+  const Eigen::Vector4f ground(0, -1, 0, person.params().camera_height);  // optical frame: y down
+  for (int i = 0; i <= o.pairs; ++i)
+  {
+    person.render(i, full, &mask);
+    addFrame(full, mask, person.stamp(i), i == 0, ground);
+  }
+}
+
 int main(int argc, char** argv)
 {
   const Options o = parse(argc, argv);
   try
   {
-    const MovingPerson person;
-    std::printf("bench: %d frame pairs per voxel size of a generated person waving an arm (MovingPerson: %.2f m tall, "
-                "%.1f m from a 640x480 f=525 camera, %.1f Hz wave, Kinect depth noise)\n",
-                o.pairs, person.params().height, person.params().distance, person.params().wave_hz);
-    std::printf("times in milliseconds per frame; 'base' = PCL octree baseline (OctreePointCloudSearch::nearestKSearch, "
-                "resolution %s); ratio = baseline median / ours median\n",
-                o.octree_resolution > 0 ? std::to_string(o.octree_resolution).c_str() : "= voxel size");
-    std::fflush(stdout);
+    std::map<float, std::vector<PersonSequence>> by_voxel;
+    StageSamples tracker_time;
+    std::size_t tracker_people = 0;
+    collectFrames(o, by_voxel, tracker_time, tracker_people);
     for (float voxel : o.voxels)
+      benchFlow(o, voxel, by_voxel[voxel]);
+    if (!tracker_time.empty())
     {
-      std::vector<Cloud> clouds;
-      for (int i = 0; i <= o.pairs; ++i)
-        clouds.push_back(person.personCloud(i, voxel));
-      benchFlow(o, voxel, clouds, person);
+      header("### People tracker on full 640x480 clouds (PeopleTracker::update)");
+      row("tracker update", tracker_time, nullptr);
+      std::printf("\n%zu frames, %.2f tracked people per frame on average\n", tracker_time.size(),
+                  tracker_people / static_cast<double>(tracker_time.size()));
     }
     if (o.classification)
       benchClassification(o);
