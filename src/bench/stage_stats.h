@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstddef>
 #include <stdexcept>
 #include <vector>
@@ -47,23 +48,41 @@ private:
   std::vector<double> samples_;
 };
 
-/** @brief Seconds elapsed since construction (or the last restart), on the monotonic clock. */
+/** @brief Which clock a Stopwatch reads. */
+enum class Clock
+{
+  Wall,      ///< the monotonic wall clock: includes time the thread waited for a core
+  ThreadCpu  ///< CPU time of the calling thread: what the work cost on one core, on a shared machine
+};
+
+/** @brief Seconds elapsed since construction (or the last lap). */
 class Stopwatch
 {
 public:
-  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
-  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  explicit Stopwatch(Clock clock = Clock::Wall) : clock_(clock), start_(now()) {}
+  double seconds() const { return now() - start_; }
   /** @brief Returns the seconds elapsed and starts again. */
   double lap()
   {
-    const auto now = std::chrono::steady_clock::now();
-    const double s = std::chrono::duration<double>(now - start_).count();
-    start_ = now;
+    const double t = now();
+    const double s = t - start_;
+    start_ = t;
     return s;
   }
 
 private:
-  std::chrono::steady_clock::time_point start_;
+  double now() const
+  {
+    if (clock_ == Clock::ThreadCpu)
+    {
+      timespec ts;
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+      return ts.tv_sec + 1e-9 * ts.tv_nsec;
+    }
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  }
+  Clock clock_;
+  double start_;
 };
 
 }  // namespace bench

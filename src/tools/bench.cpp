@@ -53,6 +53,8 @@ struct Options
   bool baseline = true;
   bool classification = true;
   bool tracker = true;
+  Clock clock = Clock::Wall;
+  double octree_scale = 8.0;  // baseline octree resolution = this x voxel unless --octree-resolution
   std::string source = kDefaultSource;
 };
 
@@ -61,8 +63,8 @@ struct Options
   std::fprintf(stderr, "bench: %s\n", error.c_str());
   std::fprintf(stderr,
                "usage: bench [--pairs N (>=1, default 200)] [--voxels 0.06,0.04,0.02,0.01] [--k 50]\n"
-               "             [--octree-resolution M (default: the voxel size)] [--training 540] [--queries 300]\n"
-               "             [--source synth|generated] [--no-baseline] [--no-classification] [--no-tracker]\n");
+               "             [--octree-resolution M (default: 8 x the voxel size)] [--training 540] [--queries 300]\n"
+               "             [--source synth|generated] [--cpu-time] [--no-baseline] [--no-classification] [--no-tracker]\n");
   std::exit(2);
 }
 
@@ -100,6 +102,8 @@ Options parse(int argc, char** argv)
       o.baseline = false;
     else if (a == "--no-classification")
       o.classification = false;
+    else if (a == "--cpu-time")
+      o.clock = Clock::ThreadCpu;
     else if (a == "--no-tracker")
       o.tracker = false;
     else if (a == "--source")
@@ -172,7 +176,7 @@ void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>&
   FlowParams fp;
   fp.k = o.k;
   const FlowEstimator ours(fp);
-  const OctreeFlowBaseline base(fp, o.octree_resolution > 0 ? o.octree_resolution : voxel);
+  const OctreeFlowBaseline base(fp, o.octree_resolution > 0 ? o.octree_resolution : o.octree_scale * voxel);
   const GridDescriptor grid;
   StageSamples o_build, o_match, o_vel, o_out, o_total, o_desc, b_build, b_match, b_vel, b_out, b_total;
   std::size_t points = 0, kept = 0, b_kept = 0, agree = 0, ours_matches = 0, base_matches = 0;
@@ -188,7 +192,7 @@ void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>&
     const std::vector<Cloud>& clouds = seq.clouds;
     points += clouds[i].size();
     auto runOurs = [&]() {
-      Stopwatch w;
+      Stopwatch w(o.clock);
       auto frame = std::make_unique<FlowFrame>(clouds[i], stamp);
       const double t_build = w.lap();
       FlowStats stats;
@@ -215,7 +219,7 @@ void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>&
       return matches;
     };
     auto runBase = [&]() {
-      Stopwatch w;
+      Stopwatch w(o.clock);
       auto frame = base.prepare(clouds[i], stamp);
       const double t_build = w.lap();
       FlowStats stats;
@@ -286,7 +290,7 @@ void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>&
 void benchClassification(const Options& o)
 {
   const int actions = 15, size = GridDescriptor().size();
-  Stopwatch w;
+  Stopwatch w(o.clock);
   const auto train = makeSequences(o.training, actions, size, 1);
   const auto queries = makeSequences(o.queries, actions, size, 2);
   std::vector<Eigen::VectorXf> all_frames;
@@ -315,7 +319,7 @@ void benchClassification(const Options& o)
   int right_plain = 0, right_pca = 0;
   for (const auto& q : queries)
   {
-    Stopwatch s;
+    Stopwatch s(o.clock);
     const Eigen::VectorXf a = seq.compute(q.frames, q.stamps);
     const double t1 = s.lap();
     const Classification ca = plain.classify(a);
@@ -373,7 +377,7 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
 #ifdef ACTION_FLOW_BENCH_TRACKER
     if (tracker)
     {
-      Stopwatch w;
+      Stopwatch w(o.clock);
       const TrackerResult r = tracker->update(full, stamp);
       tracker_time.add(w.seconds());
       tracker_people += r.people.size();
@@ -386,7 +390,7 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
   int pairs = 0;
   Cloud full;
   std::vector<std::uint8_t> mask;
-  Stopwatch w;
+  Stopwatch w(o.clock);
 #ifdef ACTION_FLOW_BENCH_SYNTH
   if (o.source == "synth")
   {
