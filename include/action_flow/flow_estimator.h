@@ -58,13 +58,13 @@ Eigen::Vector3f hsvCone(const Hsv& c);
 
 /**
  * @brief One person cloud prepared for matching: its finite points, their HSV colours and a
- *        kd-tree over XYZ. Built once per frame; the same frame serves as the target of one
+ *        neighbour index over XYZ (a uniform grid; exact K-nearest and radius search). Built once per frame; the same frame serves as the target of one
  *        pair and as the source of the next.
  */
 class FlowFrame
 {
 public:
-  /** @brief Keeps the finite points of @p cloud (NaN/inf dropped) and builds the kd-tree. */
+  /** @brief Keeps the finite points of @p cloud (NaN/inf dropped) and builds the neighbour index. */
   FlowFrame(const Cloud& cloud, double stamp);
   ~FlowFrame();
   FlowFrame(const FlowFrame&) = delete;
@@ -77,13 +77,18 @@ public:
   /** @brief Colour of point i in HSV-cone coordinates (see hsvCone). */
   const Eigen::Vector3f& colour(std::size_t i) const { return colour_[i]; }
 
-  /** @brief Indices of the (at most) @p k nearest points to @p q, nearest first. */
+  /**
+   * @brief Indices of the (at most) @p k nearest points to @p q, nearest first; among equal
+   *        distances the lower index first (so the set is a function of the data alone).
+   */
   void nearest(const Eigen::Vector3f& q, int k, std::vector<std::size_t>& indices,
                std::vector<float>& sq_dists) const;
-  /** @brief Indices of all points within @p radius of @p q. */
+  /** @brief Indices of all points closer than @p radius to @p q, in no particular order. */
   void within(const Eigen::Vector3f& q, float radius, std::vector<std::size_t>& indices) const;
 
-  struct Index;  // the kd-tree (nanoflann), hidden from users of the header
+  struct Index;  // the neighbour index (a uniform grid), defined in flow_estimator.cpp
+  /** @brief The neighbour index, for FlowEstimator; its type is opaque outside the core. */
+  const Index& index() const { return *index_; }
 
 private:
   double stamp_;

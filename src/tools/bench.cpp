@@ -1,0 +1,458 @@
+// bench: per-stage timings of the flow pipeline and the classifier, ours beside the paper-faithful
+// PCL-octree baseline on the same frames in the same run (see docs/bench.md).
+#include "../bench/moving_person.h"
+#include "../bench/octree_flow_baseline.h"
+#include "../bench/stage_stats.h"
+#include "../bench/training_set.h"
+
+#include <action_flow/action_classifier.h>
+#include <action_flow/flow_estimator.h>
+#include <action_flow/grid_descriptor.h>
+#include <action_flow/pca.h>
+#include <action_flow/sequence_descriptor.h>
+#ifdef ACTION_FLOW_BENCH_SYNTH
+#include <action_flow/synth/synth.h>
+#endif
+#ifdef ACTION_FLOW_BENCH_TRACKER
+#include <action_flow/people_tracker.h>
+#endif
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using namespace action_flow;
+using namespace action_flow::bench;
+
+namespace
+{
+#ifdef ACTION_FLOW_BENCH_SYNTH
+const char* const kDefaultSource = "synth";
+#else
+const char* const kDefaultSource = "generated";
+#endif
+
+struct Options
+{
+  int pairs = 200;
+  std::vector<float> voxels{ 0.06f, 0.04f, 0.02f, 0.01f };
+  int k = 50;
+  double octree_resolution = 0.0;  // 0: the voxel size
+  int training = 540;
+  int queries = 300;
+  bool baseline = true;
+  bool classification = true;
+  bool tracker = true;
+  Clock clock = Clock::Wall;
+  double octree_scale = 8.0;  // baseline octree resolution = this x voxel unless --octree-resolution
+  std::string source = kDefaultSource;
+};
+
+[[noreturn]] void usage(const std::string& error)
+{
+  std::fprintf(stderr, "bench: %s\n", error.c_str());
+  std::fprintf(stderr,
+               "usage: bench [--pairs N (>=1, default 200)] [--voxels 0.06,0.04,0.02,0.01] [--k 50]\n"
+               "             [--octree-resolution M (default: 8 x the voxel size)] [--training 540] [--queries 300]\n"
+               "             [--source synth|generated] [--cpu-time] [--no-baseline] [--no-classification] [--no-tracker]\n");
+  std::exit(2);
+}
+
+double number(const std::string& flag, const char* text)
+{
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  if (end == text || *end != '\0' || !std::isfinite(v))
+    usage("bad value '" + std::string(text) + "' for " + flag);
+  return v;
+}
+
+Options parse(int argc, char** argv)
+{
+  Options o;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto value = [&]() -> const char* {
+      if (i + 1 >= argc)
+        usage(a + " needs a value");
+      return argv[++i];
+    };
+    if (a == "--pairs")
+      o.pairs = static_cast<int>(number(a, value()));
+    else if (a == "--k")
+      o.k = static_cast<int>(number(a, value()));
+    else if (a == "--octree-resolution")
+      o.octree_resolution = number(a, value());
+    else if (a == "--training")
+      o.training = static_cast<int>(number(a, value()));
+    else if (a == "--queries")
+      o.queries = static_cast<int>(number(a, value()));
+    else if (a == "--no-baseline")
+      o.baseline = false;
+    else if (a == "--no-classification")
+      o.classification = false;
+    else if (a == "--cpu-time")
+      o.clock = Clock::ThreadCpu;
+    else if (a == "--no-tracker")
+      o.tracker = false;
+    else if (a == "--source")
+      o.source = value();
+    else if (a == "--voxels")
+    {
+      o.voxels.clear();
+      std::stringstream ss(value());
+      std::string item;
+      while (std::getline(ss, item, ','))
+        o.voxels.push_back(static_cast<float>(number(a, item.c_str())));
+    }
+    else if (a == "-h" || a == "--help")
+      usage("help");
+    else
+      usage("unknown argument '" + a + "'");
+  }
+  if (o.pairs < 1 || o.k < 1 || o.training < 2 || o.queries < 1 || o.octree_resolution < 0 || o.voxels.empty())
+    usage("--pairs, --k, --queries must be >= 1, --training >= 2, --octree-resolution >= 0, --voxels not empty");
+#ifdef ACTION_FLOW_BENCH_SYNTH
+  if (o.source != "synth" && o.source != "generated")
+    usage("--source must be synth or generated");
+#else
+  if (o.source != "generated")
+    usage("--source must be generated (this build has no synth part)");
+#endif
+  for (float v : o.voxels)
+    if (!(v >= 0.002f && v <= 0.2f))
+      usage("voxel sizes must be in [0.002, 0.2] m");
+  return o;
+}
+
+std::string ms(double s)
+{
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", s * 1e3);
+  return buf;
+}
+
+void row(const char* stage, const StageSamples& ours, const StageSamples* base)
+{
+  if (base && !base->empty())
+    std::printf("| %-22s | %9s | %9s | %9s | %9s | %7.1fx |\n", stage, ms(ours.median()).c_str(), ms(ours.p95()).c_str(),
+                ms(base->median()).c_str(), ms(base->p95()).c_str(), base->median() / ours.median());
+  else
+    std::printf("| %-22s | %9s | %9s | %9s | %9s | %8s |\n", stage, ms(ours.median()).c_str(), ms(ours.p95()).c_str(),
+                "-", "-", "-");
+}
+
+void header(const char* title)
+{
+  std::printf("\n%s\n\n", title);
+  std::printf("| %-22s | %9s | %9s | %9s | %9s | %8s |\n", "stage (ms)", "ours med", "ours p95", "base med", "base p95",
+              "base/ours");
+  std::printf("|%s|%s|%s|%s|%s|%s|\n", std::string(24, '-').c_str(), std::string(11, '-').c_str(),
+              std::string(11, '-').c_str(), std::string(11, '-').c_str(), std::string(11, '-').c_str(),
+              std::string(10, '-').c_str());
+}
+
+// One person's clouds in consecutive frames, at one voxel size.
+struct PersonSequence
+{
+  std::vector<Cloud> clouds;
+  std::vector<double> stamps;
+  Eigen::Vector4f ground;  // in the clouds' frame, normal up
+};
+
+void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>& sequences)
+{
+  FlowParams fp;
+  fp.k = o.k;
+  const FlowEstimator ours(fp);
+  const OctreeFlowBaseline base(fp, o.octree_resolution > 0 ? o.octree_resolution : o.octree_scale * voxel);
+  const GridDescriptor grid;
+  StageSamples o_build, o_match, o_vel, o_out, o_total, o_desc, b_build, b_match, b_vel, b_out, b_total;
+  std::size_t points = 0, kept = 0, b_kept = 0, agree = 0, ours_matches = 0, base_matches = 0;
+  int pairs = 0;
+  for (const PersonSequence& seq : sequences)
+  {
+  std::unique_ptr<FlowFrame> prev = std::make_unique<FlowFrame>(seq.clouds[0], seq.stamps[0]);
+  std::unique_ptr<OctreeFlowBaseline::Frame> bprev = base.prepare(seq.clouds[0], seq.stamps[0]);
+  const Eigen::Vector4f ground = seq.ground;
+  for (std::size_t i = 1; i < seq.clouds.size() && pairs < o.pairs; ++i, ++pairs)
+  {
+    const double stamp = seq.stamps[i];
+    const std::vector<Cloud>& clouds = seq.clouds;
+    points += clouds[i].size();
+    auto runOurs = [&]() {
+      Stopwatch w(o.clock);
+      auto frame = std::make_unique<FlowFrame>(clouds[i], stamp);
+      const double t_build = w.lap();
+      FlowStats stats;
+      const auto matches = ours.correspond(*prev, *frame, stats);
+      const double t_match = w.lap();
+      const FlowVectors flow = FlowEstimator::velocities(*prev, *frame, matches, stamp - prev->stamp());
+      const double t_vel = w.lap();
+      const FlowVectors kept_flow = ours.rejectOutliers(*frame, matches, flow, stats);
+      const double t_out = w.lap();
+      Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+      for (std::size_t k = 0; k < frame->size(); ++k)
+        centroid += frame->point(k);
+      centroid /= std::max<std::size_t>(1, frame->size());
+      const Eigen::VectorXf d = grid.compute(kept_flow, PersonFrame::fromGround(centroid, ground, 1.75f, centroid));
+      const double t_desc = w.lap();
+      o_build.add(t_build);
+      o_match.add(t_match);
+      o_vel.add(t_vel);
+      o_out.add(t_out);
+      o_total.add(t_build + t_match + t_vel + t_out);
+      o_desc.add(t_desc);
+      kept += kept_flow.size();
+      prev = std::move(frame);
+      return matches;
+    };
+    auto runBase = [&]() {
+      Stopwatch w(o.clock);
+      auto frame = base.prepare(clouds[i], stamp);
+      const double t_build = w.lap();
+      FlowStats stats;
+      const auto matches = base.correspond(*bprev, *frame, stats);
+      const double t_match = w.lap();
+      const FlowVectors flow = base.velocities(*bprev, *frame, matches);
+      const double t_vel = w.lap();
+      const FlowVectors kept_flow = base.rejectOutliers(*frame, matches, flow, stats);
+      const double t_out = w.lap();
+      b_build.add(t_build);
+      b_match.add(t_match);
+      b_vel.add(t_vel);
+      b_out.add(t_out);
+      b_total.add(t_build + t_match + t_vel + t_out);
+      b_kept += kept_flow.size();
+      bprev = std::move(frame);
+      return matches;
+    };
+    // Alternate which goes first so neither always finds the caches warmed by the other.
+    std::vector<Correspondence> mo, mb;
+    if (!o.baseline)
+      mo = runOurs();
+    else if (i % 2)
+    {
+      mo = runOurs();
+      mb = runBase();
+    }
+    else
+    {
+      mb = runBase();
+      mo = runOurs();
+    }
+    if (o.baseline)
+    {
+      std::set<std::pair<std::size_t, std::size_t>> b;
+      for (const auto& m : mb)
+        b.insert({ m.target, m.source });
+      for (const auto& m : mo)
+        agree += b.count({ m.target, m.source });
+      ours_matches += mo.size();
+      base_matches += mb.size();
+    }
+  }
+  }
+  if (pairs < 1)
+    throw std::runtime_error("no frame pairs to time");
+  char title[256];
+  std::snprintf(title, sizeof title, "### Flow, voxel %.2f m: person clouds of %.0f points on average, %d frame pairs, K = %d",
+                voxel, points / static_cast<double>(pairs), pairs, o.k);
+  header(title);
+  const StageSamples* none = nullptr;
+  row("tree build", o_build, o.baseline ? &b_build : none);
+  row("matching (reciprocal)", o_match, o.baseline ? &b_match : none);
+  row("flow vectors", o_vel, o.baseline ? &b_vel : none);
+  row("outlier removal", o_out, o.baseline ? &b_out : none);
+  row("flow step total", o_total, o.baseline ? &b_total : none);
+  row("descriptor", o_desc, none);
+  const double np = pairs;
+  std::printf("\nflow vectors kept per frame: ours %.1f", kept / np);
+  if (o.baseline)
+    std::printf(", baseline %.1f; reciprocal correspondences: ours %.1f, baseline %.1f per frame, %.2f %% of ours "
+                "identical in the baseline",
+                b_kept / np, ours_matches / np, base_matches / np, 100.0 * agree / std::max<std::size_t>(1, ours_matches));
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+void benchClassification(const Options& o)
+{
+  const int actions = 15, size = GridDescriptor().size();
+  Stopwatch w(o.clock);
+  const auto train = makeSequences(o.training, actions, size, 1);
+  const auto queries = makeSequences(o.queries, actions, size, 2);
+  std::vector<Eigen::VectorXf> all_frames;
+  for (const auto& s : train)
+    all_frames.insert(all_frames.end(), s.frames.begin(), s.frames.end());
+  Eigen::MatrixXf frame_matrix(all_frames.size(), size);
+  for (std::size_t i = 0; i < all_frames.size(); ++i)
+    frame_matrix.row(i) = all_frames[i].transpose();
+  const Pca pca = Pca::fit(frame_matrix, 0.99);
+  const SequenceDescriptor seq(30);
+  auto model = [&](const Pca& p) {
+    Eigen::MatrixXf m(train.size(), 30 * (p.empty() ? size : p.outputSize()));
+    std::vector<std::string> labels;
+    for (std::size_t i = 0; i < train.size(); ++i)
+    {
+      m.row(i) = seq.compute(train[i].frames, train[i].stamps, p).transpose();
+      labels.push_back(train[i].label);
+    }
+    return ActionClassifier(std::move(m), labels);
+  };
+  const ActionClassifier plain = model(Pca()), reduced = model(pca);
+  std::printf("\n### Classification: %d training sequences of %d actions, %d queries, F = 30 "
+              "(set up in %.1f s; PCA keeps %d of %d components at 99 %% variance)\n",
+              o.training, actions, o.queries, w.seconds(), pca.outputSize(), size);
+  StageSamples t_plain_seq, t_plain_nn, t_pca_seq, t_pca_nn, t_plain, t_pca;
+  int right_plain = 0, right_pca = 0;
+  for (const auto& q : queries)
+  {
+    Stopwatch s(o.clock);
+    const Eigen::VectorXf a = seq.compute(q.frames, q.stamps);
+    const double t1 = s.lap();
+    const Classification ca = plain.classify(a);
+    const double t2 = s.lap();
+    const Eigen::VectorXf b = seq.compute(q.frames, q.stamps, pca);
+    const double t3 = s.lap();
+    const Classification cb = reduced.classify(b);
+    const double t4 = s.lap();
+    t_plain_seq.add(t1);
+    t_plain_nn.add(t2);
+    t_plain.add(t1 + t2);
+    t_pca_seq.add(t3);
+    t_pca_nn.add(t4);
+    t_pca.add(t3 + t4);
+    right_plain += ca.label == q.label;
+    right_pca += cb.label == q.label;
+  }
+  header("| classification (ms)");
+  row("sequence descr. no PCA", t_plain_seq, nullptr);
+  row("1-NN, 5760 values", t_plain_nn, nullptr);
+  row("classify, no PCA", t_plain, nullptr);
+  row("sequence descr. + PCA", t_pca_seq, nullptr);
+  char name[64];
+  std::snprintf(name, sizeof name, "1-NN, %d values", 30 * pca.outputSize());
+  row(name, t_pca_nn, nullptr);
+  row("classify, with PCA", t_pca, nullptr);
+  std::printf("\n(sanity: %d / %d queries labelled right without PCA, %d with)\n", right_plain, o.queries, right_pca);
+}
+}  // namespace
+
+// Renders the frames once, cuts out the person (the renderer's mask), voxelises it at every size,
+// and times the people tracker on the full frames on the way.
+void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>>& by_voxel, StageSamples& tracker_time,
+                   std::size_t& tracker_people)
+{
+#ifdef ACTION_FLOW_BENCH_TRACKER
+  std::unique_ptr<PeopleTracker> tracker;
+  if (o.tracker)
+    tracker = std::make_unique<PeopleTracker>();
+#endif
+  auto addFrame = [&](const Cloud& full, const std::vector<std::uint8_t>& mask, double stamp, bool first,
+                      const Eigen::Vector4f& ground) {
+    Cloud person;
+    for (std::size_t k = 0; k < full.size(); ++k)
+      if (mask[k] && std::isfinite(full.points[k].z))
+        person.push_back(full.points[k]);
+    for (float v : o.voxels)
+    {
+      auto& seqs = by_voxel[v];
+      if (first)
+        seqs.push_back(PersonSequence{ {}, {}, ground });
+      seqs.back().clouds.push_back(voxelise(person, v));
+      seqs.back().stamps.push_back(stamp);
+    }
+#ifdef ACTION_FLOW_BENCH_TRACKER
+    if (tracker)
+    {
+      Stopwatch w(o.clock);
+      const TrackerResult r = tracker->update(full, stamp);
+      tracker_time.add(w.seconds());
+      tracker_people += r.people.size();
+    }
+#else
+    (void)tracker_time;
+    (void)tracker_people;
+#endif
+  };
+  int pairs = 0;
+  Cloud full;
+  std::vector<std::uint8_t> mask;
+  Stopwatch w(o.clock);
+#ifdef ACTION_FLOW_BENCH_SYNTH
+  if (o.source == "synth")
+  {
+    for (int p = 1; pairs < o.pairs; ++p)
+    {
+      synth::SampleSpec spec;
+      char id[16];
+      std::snprintf(id, sizeof id, "p%02d", p);
+      spec.person = id;
+      spec.action = "wave";
+      const synth::SampleRenderer sample(spec);
+      const Eigen::Isometry3f pose = sample.camera().worldFromOptical();
+      // The floor (world z = 0) in the optical frame: normal = world up seen from the camera.
+      const Eigen::Vector3f up = pose.linear().row(2).transpose();
+      const Eigen::Vector4f ground(up.x(), up.y(), up.z(), pose.translation().z());
+      const int frames = std::min(sample.frames(), o.pairs - pairs + 1);
+      for (int i = 0; i < frames; ++i)
+      {
+        sample.render(i, full, &mask);
+        addFrame(full, mask, sample.stamp(i), i == 0, ground);
+      }
+      pairs += frames - 1;
+      std::printf("  rendered %s_wave_1: %d frames (%d pairs so far, %.0f s)\n", id, frames, pairs, w.seconds());
+      std::fflush(stdout);
+    }
+    return;
+  }
+#endif
+  const MovingPerson person;
+  const Eigen::Vector4f ground(0, -1, 0, person.params().camera_height);  // optical frame: y down
+  for (int i = 0; i <= o.pairs; ++i)
+  {
+    person.render(i, full, &mask);
+    addFrame(full, mask, person.stamp(i), i == 0, ground);
+  }
+}
+
+int main(int argc, char** argv)
+{
+  const Options o = parse(argc, argv);
+  try
+  {
+    std::map<float, std::vector<PersonSequence>> by_voxel;
+    StageSamples tracker_time;
+    std::size_t tracker_people = 0;
+    collectFrames(o, by_voxel, tracker_time, tracker_people);
+    for (float voxel : o.voxels)
+      benchFlow(o, voxel, by_voxel[voxel]);
+    if (!tracker_time.empty())
+    {
+      header("### People tracker on full 640x480 clouds (PeopleTracker::update)");
+      row("tracker update", tracker_time, nullptr);
+      std::printf("\n%zu frames, %.2f tracked people per frame on average\n", tracker_time.size(),
+                  tracker_people / static_cast<double>(tracker_time.size()));
+    }
+    if (o.classification)
+      benchClassification(o);
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "bench: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
