@@ -17,7 +17,7 @@
 namespace action_flow
 {
 /**
- * @brief The flow of one tracked person: keeps the previous frame (and its kd-tree, built once)
+ * @brief The flow of one tracked person: keeps the previous frame (and its neighbour grid, built once)
  *        and estimates the flow to each new one.
  */
 class FlowTrack
