@@ -30,7 +30,7 @@ TEST(Pipeline, RecognisesActionsOfAnUnseenActorFromBags)
 {
   const std::string dir = ::testing::TempDir() + "action_flow_pipeline";
   std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
-  const std::string actions = "wave,kick,sit_down";
+  const std::string actions = "walk,pick_up,get_up";
   int status = 0;
   std::string out = run(kBin + "/train --synth ias --people 3 --repetitions 1 --actions " + actions + " --output '" +
                             dir + "/model' --cache '" + dir + "/cache' --jobs 2",
@@ -39,7 +39,7 @@ TEST(Pipeline, RecognisesActionsOfAnUnseenActorFromBags)
 
   std::set<std::string> right;
   std::string table;
-  for (const std::string action : { "wave", "kick", "sit_down" })
+  for (const std::string action : { "walk", "pick_up", "get_up" })
   {
     out = run(kBin + "/synth --out '" + dir + "/" + action + "' --people 4 --person p04 --action " + action +
                   " --repetitions 1 --raw-images --quiet",
