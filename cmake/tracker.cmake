@@ -11,6 +11,7 @@ add_library(action_flow_tracker
   src/core/tracker_detector.cpp
   src/core/tracker_ground.cpp
   src/core/tracker_assignment.cpp
+  src/core/tracker_clustering.cpp
 )
 target_link_libraries(action_flow_tracker action_flow_core ${ACTION_FLOW_PCL_PEOPLE_LIBRARIES} ${PCL_LIBRARIES})
 

@@ -1,10 +1,9 @@
 #include <action_flow/tracker_detector.h>
+#include <action_flow/tracker_clustering.h>
 
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/people/head_based_subcluster.h>
 #include <pcl/people/person_classifier.h>
-#include <pcl/search/kdtree.h>
-#include <pcl/segmentation/extract_clusters.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -166,7 +165,10 @@ struct PeopleDetector::Impl
 {
   explicit Impl(const GroundParams& g) : ground(g) {}
   GroundEstimator ground;
+  RadiusGrid grid;
   std::unique_ptr<pcl::people::PersonClassifier<pcl::RGB>> classifier;
+  pcl::Indices valid;
+  pcl::IndicesPtr sampled{new pcl::Indices};
 };
 
 PeopleDetector::PeopleDetector(const TrackerParams& params) : params_(params)
@@ -204,9 +206,12 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
 
   // ---- finite points in range, voxelised ----
   const float range2 = params_.max_range * params_.max_range;
-  pcl::IndicesPtr valid(new pcl::Indices);  // every usable point (for the person clouds)
-  pcl::IndicesPtr sampled(new pcl::Indices);  // those that feed the detection voxels
-  valid->reserve(cloud.size());
+  // Kept from frame to frame: a 640x480 frame's index lists are megabytes, and allocating them
+  // afresh each frame costs page faults.
+  pcl::Indices& valid = impl_->valid;  // every usable point (for the person clouds)
+  const pcl::IndicesPtr& sampled = impl_->sampled;  // those that feed the detection voxels
+  valid.clear();
+  sampled->clear();
   const std::size_t step = cloud.height > 1 ? static_cast<std::size_t>(params_.sampling_factor) : 1;
   for (std::size_t i = 0; i < cloud.size(); ++i)
   {
@@ -214,7 +219,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
     if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
         (p.getVector3fMap() - origin).squaredNorm() <= range2)
     {
-      valid->push_back(static_cast<pcl::index_t>(i));
+      valid.push_back(static_cast<pcl::index_t>(i));
       if (step == 1 || ((i % cloud.width) % step == 0 && (i / cloud.width) % step == 0))
         sampled->push_back(static_cast<pcl::index_t>(i));
     }
@@ -296,18 +301,9 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
     return out;
 
   // ---- Euclidean clusters ----
-  std::vector<pcl::PointIndices> clusters;
-  auto tree = pcl::make_shared<pcl::search::KdTree<PointT>>(false);  // unsorted neighbours: cheaper
-  {
-    tree->setInputCloud(level);
-    pcl::EuclideanClusterExtraction<PointT> ec;
-    ec.setClusterTolerance(params_.cluster_tolerance);
-    ec.setMinClusterSize(params_.min_points);
-    ec.setMaxClusterSize(std::numeric_limits<int>::max());
-    ec.setSearchMethod(tree);
-    ec.setInputCloud(level);
-    ec.extract(clusters);
-  }
+  RadiusGrid& grid = impl_->grid;
+  std::vector<pcl::PointIndices> clusters =
+      euclideanClusters(*level, params_.cluster_tolerance, params_.min_points, std::numeric_limits<int>::max(), grid);
   if (clusters.empty())
     return out;
 
@@ -368,9 +364,8 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   // ---- size limits, and a surface: a person's voxels have neighbours all around (scattered
   // points have one or two within the clustering tolerance) ----
   std::unordered_map<std::uint64_t, int> label_of_voxel;
+  Eigen::Array3f people_lo = Eigen::Array3f::Constant(1e30f), people_hi = -people_lo;  // their voxels' points
   const float inverse_leaf = 1.0f / params_.detection_voxel_size;
-  pcl::Indices neighbours;
-  std::vector<float> distances;
   for (const auto& idx : members)
   {
     if (static_cast<int>(idx.size()) < params_.min_points)
@@ -378,8 +373,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
     // Counting stops at twice the threshold: enough to tell, and the searches stay short.
     std::size_t around = 0;
     for (const auto i : idx)
-      around += static_cast<std::size_t>(
-          tree->radiusSearch((*level)[i], params_.cluster_tolerance, neighbours, distances, 2 * kSurfaceNeighbours));
+      around += static_cast<std::size_t>(grid.countWithin((*level)[i].getVector3fMap(), 2 * kSurfaceNeighbours));
     if (around < static_cast<std::size_t>(kSurfaceNeighbours) * idx.size())
       continue;
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo, sum = Eigen::Vector3f::Zero();
@@ -402,7 +396,11 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
     d.voxels = static_cast<int>(idx.size());
     const int label = static_cast<int>(out.people.size());
     for (const auto i : idx)
+    {
       label_of_voxel.emplace(voxelKey((*above)[i], inverse_leaf), label);
+      people_lo = people_lo.min((*above)[i].getArray3fMap());
+      people_hi = people_hi.max((*above)[i].getArray3fMap());
+    }
     out.people.push_back(std::move(d));
   }
 
@@ -454,13 +452,21 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   // ---- each person's points at full resolution: those falling in the person's detection voxels,
   // above the ground ----
   if (!out.people.empty())
-    for (const auto i : *valid)
+  {
+    // Most of the room lies outside the people's voxels: a box test spares those the hash lookup.
+    const float leaf = params_.detection_voxel_size;
+    const Eigen::Array3f lo = (people_lo * inverse_leaf).floor() * leaf - 1e-3f;
+    const Eigen::Array3f hi = ((people_hi * inverse_leaf).floor() + 1.0f) * leaf + 1e-3f;
+    for (const auto i : valid)
     {
       const PointT& p = cloud[i];
+      if (!(p.getArray3fMap() >= lo).all() || !(p.getArray3fMap() <= hi).all())
+        continue;
       const auto it = label_of_voxel.find(voxelKey(p, inverse_leaf));
       if (it != label_of_voxel.end() && heightAbove(ground, p.getVector3fMap()) > params_.ground_tolerance)
         out.people[it->second].indices.push_back(i);
     }
+  }
   return out;
 }
 

@@ -4,10 +4,16 @@
 
 #include <action_flow/people_tracker.h>
 #include <action_flow/tracker_assignment.h>
+#include <action_flow/tracker_clustering.h>
 #include <action_flow/tracker_detector.h>
 #include <action_flow/tracker_ground.h>
 
 #include <gtest/gtest.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/segmentation/extract_clusters.h>
+
+#include <algorithm>
+#include <set>
 
 #include <cstdio>
 #include <fstream>
@@ -15,6 +21,106 @@
 #include <random>
 
 using namespace action_flow;
+
+// ---- clustering ----------------------------------------------------------------------------
+
+namespace
+{
+// Blobs of random sizes scattered in a room-sized box, some touching, plus NaN points: clusters
+// that merge and split at the tolerance.
+Cloud blobs(unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> room(-3.0f, 3.0f), spread(0.02f, 0.3f), unit(0.0f, 1.0f);
+  std::normal_distribution<float> gauss(0.0f, 1.0f);
+  Cloud c;
+  for (int b = 0; b < 40; ++b)
+  {
+    const Eigen::Vector3f centre(room(rng), room(rng) * 0.5f, room(rng) + 4.0f);
+    const float s = spread(rng);
+    const int n = 5 + static_cast<int>(unit(rng) * 200);
+    for (int k = 0; k < n; ++k)
+    {
+      PointT p;
+      p.getVector3fMap() = centre + s * Eigen::Vector3f(gauss(rng), gauss(rng), gauss(rng));
+      c.push_back(p);
+    }
+  }
+  for (int k = 0; k < 50; ++k)
+  {
+    PointT p;
+    p.x = p.y = p.z = std::numeric_limits<float>::quiet_NaN();
+    c.insert(c.begin() + static_cast<long>(unit(rng) * c.size()), p);
+  }
+  c.is_dense = false;
+  return c;
+}
+
+std::set<std::vector<int>> asSets(const std::vector<pcl::PointIndices>& clusters)
+{
+  std::set<std::vector<int>> out;
+  for (const auto& c : clusters)
+    out.insert(std::vector<int>(c.indices.begin(), c.indices.end()));
+  return out;
+}
+}  // namespace
+
+TEST(RadiusGrid, FindsExactlyThePointsWithinTheRadius)
+{
+  const Cloud cloud = blobs(3);
+  RadiusGrid grid;
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> box(-4.0f, 4.0f);
+  for (const float radius : {0.05f, 0.12f, 0.5f})
+  {
+    grid.build(cloud, radius);
+    for (int q = 0; q < 300; ++q)
+    {
+      // Half the queries at points of the cloud, half anywhere (also outside the grid).
+      const Eigen::Vector3f at = q % 2 && cloud[q].getVector3fMap().allFinite()
+                                     ? Eigen::Vector3f(cloud[q].getVector3fMap())
+                                     : Eigen::Vector3f(box(rng), box(rng), box(rng) + 4.0f);
+      std::vector<std::uint32_t> found, expected;
+      grid.forEachWithin(at, [&](std::uint32_t i) { found.push_back(i); });
+      for (std::size_t i = 0; i < cloud.size(); ++i)
+        if ((cloud[i].getVector3fMap() - at).squaredNorm() <= radius * radius)
+          expected.push_back(static_cast<std::uint32_t>(i));
+      std::sort(found.begin(), found.end());
+      ASSERT_EQ(found, expected) << "radius " << radius << ", query " << q;
+      EXPECT_EQ(grid.countWithin(at, 3), std::min<int>(3, static_cast<int>(expected.size())));
+    }
+  }
+}
+
+TEST(EuclideanClusters, SameClustersAsPcl)
+{
+  RadiusGrid grid;
+  for (unsigned seed = 1; seed <= 5; ++seed)
+  {
+    const auto cloud = pcl::make_shared<Cloud>(blobs(seed));
+    for (const float tolerance : {0.06f, 0.12f, 0.25f})
+    {
+      std::vector<pcl::PointIndices> reference;
+      pcl::EuclideanClusterExtraction<PointT> ec;
+      ec.setClusterTolerance(tolerance);
+      ec.setMinClusterSize(10);
+      ec.setMaxClusterSize(400);
+      ec.setSearchMethod(pcl::make_shared<pcl::search::KdTree<PointT>>());
+      ec.setInputCloud(cloud);
+      auto finite = pcl::make_shared<pcl::Indices>();  // PCL's kd-tree refuses NaN queries
+      for (std::size_t i = 0; i < cloud->size(); ++i)
+        if ((*cloud)[i].getVector3fMap().allFinite())
+          finite->push_back(static_cast<int>(i));
+      ec.setIndices(finite);
+      ec.extract(reference);
+      const auto ours = euclideanClusters(*cloud, tolerance, 10, 400, grid);
+      ASSERT_GT(reference.size(), 3u);
+      EXPECT_EQ(asSets(ours), asSets(reference)) << "seed " << seed << ", tolerance " << tolerance;
+      for (std::size_t k = 1; k < ours.size(); ++k)
+        EXPECT_GE(ours[k - 1].indices.size(), ours[k].indices.size()) << "largest first";
+    }
+  }
+}
 
 // ---- assignment ----------------------------------------------------------------------------
 
