@@ -144,6 +144,13 @@ public:
    */
   FlowResult estimate(const FlowFrame& source, const FlowFrame& target) const;
 
+  /**
+   * @brief As estimate(), and also gives step 3's flow before step 4 in @p unfiltered (when step 4
+   *        is off, the same as the result's flow): one matching serves the paper's variants with
+   *        and without outlier rejection.
+   */
+  FlowResult estimate(const FlowFrame& source, const FlowFrame& target, FlowVectors& unfiltered) const;
+
   /** @brief Step 1: for each point of @p from, the index of its match in @p to (K-NN in XYZ, then nearest in HSV). */
   std::vector<std::size_t> match(const FlowFrame& from, const FlowFrame& to) const;
 

@@ -33,13 +33,15 @@ public:
   {
     Status status = Status::First;
     FlowResult result;
+    /** Step 3's flow before step 4; filled only by a track made with keep_unfiltered. */
+    FlowVectors unfiltered;
   };
 
   /**
    * @param max_gap frames further apart than this (s) are not matched: the track restarts
    *        (a dropped stretch of frames, a paused bag)
    */
-  explicit FlowTrack(const FlowParams& params = FlowParams(), double max_gap = 1.0);
+  explicit FlowTrack(const FlowParams& params = FlowParams(), double max_gap = 1.0, bool keep_unfiltered = false);
 
   /** @brief Adds the next cloud of this person; non-finite points are ignored. */
   Step add(const Cloud& cloud, double stamp);
@@ -50,41 +52,53 @@ public:
 private:
   FlowEstimator estimator_;
   double max_gap_;
+  bool keep_unfiltered_;
   std::unique_ptr<FlowFrame> previous_;
 };
 
 /**
  * @brief One person from clouds to frame descriptors to a sequence descriptor, as the offline
- *        tools use it (the nodelets run the same classes, one stage each).
+ *        tools use it (the nodelets run the same classes, one stage each), for one parameter set
+ *        or several at once. Sets whose flow differs at most in step 4 (outlier rejection on or
+ *        off) share one matching, the costly part: the paper's SUMFLOW, MEANFLOW and SUMFLOW
+ *        without rejection cost one flow estimation per frame, not three.
  */
 class PersonPipeline
 {
 public:
   explicit PersonPipeline(const RecognitionParams& params = RecognitionParams());
+  /** @throws std::invalid_argument if @p variants is empty */
+  explicit PersonPipeline(const std::vector<RecognitionParams>& variants);
 
   /**
-   * @brief Adds the person's next cloud (voxelised to params.voxel_size) at @p stamp, standing at @p where.
-   * @return the flow step; when it produced flow, its frame descriptor is appended to descriptors()
-   *         (a time reset clears the collected descriptors first)
+   * @brief Adds the person's next cloud (voxelised to params.voxel_size) at @p stamp, standing at
+   *        @p where. When the flow could be estimated, each variant's frame descriptor is appended
+   *        to its descriptors(); a time reset clears the collected descriptors first.
    */
-  FlowTrack::Step add(const Cloud& cloud, double stamp, const PersonFrame& where);
+  void add(const Cloud& cloud, double stamp, const PersonFrame& where);
 
-  /** @brief Frame descriptors collected so far and their stamps. */
-  const std::vector<Eigen::VectorXf>& descriptors() const { return descriptors_; }
-  const std::vector<double>& stamps() const { return stamps_; }
+  std::size_t variants() const { return variants_.size(); }
+  /** @brief Frame descriptors collected so far for variant @p v, and their stamps. */
+  const std::vector<Eigen::VectorXf>& descriptors(std::size_t v = 0) const { return variants_.at(v).descriptors; }
+  const std::vector<double>& stamps(std::size_t v = 0) const { return variants_.at(v).stamps; }
 
   /** @brief The sequence descriptor of what was collected; @throws std::invalid_argument if nothing was. */
-  Eigen::VectorXf sequence(const Pca& pca = Pca()) const;
+  Eigen::VectorXf sequence(const Pca& pca = Pca(), std::size_t v = 0) const;
 
   void clear();
 
 private:
-  RecognitionParams params_;
-  FlowTrack track_;
-  GridDescriptor grid_;
-  SequenceDescriptor sequence_;
-  std::vector<Eigen::VectorXf> descriptors_;
-  std::vector<double> stamps_;
+  struct Variant
+  {
+    std::size_t flow;   ///< index into flows_
+    bool unfiltered;    ///< uses the flow before step 4
+    GridDescriptor grid;
+    SequenceDescriptor sequence;
+    std::vector<Eigen::VectorXf> descriptors;
+    std::vector<double> stamps;
+  };
+  std::vector<FlowTrack> flows_;
+  std::vector<Variant> variants_;
 };
 
 }  // namespace action_flow

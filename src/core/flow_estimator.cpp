@@ -622,6 +622,12 @@ FlowVectors FlowEstimator::rejectOutliers(const FlowFrame& target, const std::ve
 
 FlowResult FlowEstimator::estimate(const FlowFrame& source, const FlowFrame& target) const
 {
+  FlowVectors unfiltered;
+  return estimate(source, target, unfiltered);
+}
+
+FlowResult FlowEstimator::estimate(const FlowFrame& source, const FlowFrame& target, FlowVectors& unfiltered) const
+{
   FlowResult result;
   result.dt = target.stamp() - source.stamp();
   if (!std::isfinite(result.dt) || result.dt <= 0.0)
@@ -633,8 +639,8 @@ FlowResult FlowEstimator::estimate(const FlowFrame& source, const FlowFrame& tar
   result.stats.source_points = source.size();
   result.stats.target_points = target.size();
   const auto matches = correspond(source, target, result.stats);
-  FlowVectors flow = velocities(source, target, matches, result.dt);
-  result.flow = params_.reject_outliers ? rejectOutliers(target, matches, flow, result.stats) : std::move(flow);
+  unfiltered = velocities(source, target, matches, result.dt);
+  result.flow = params_.reject_outliers ? rejectOutliers(target, matches, unfiltered, result.stats) : unfiltered;
   result.stats.kept = result.flow.size();
   return result;
 }

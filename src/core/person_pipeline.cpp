@@ -1,10 +1,12 @@
 #include <action_flow/person_pipeline.h>
 
 #include <cmath>
+#include <stdexcept>
 
 namespace action_flow
 {
-FlowTrack::FlowTrack(const FlowParams& params, double max_gap) : estimator_(params), max_gap_(max_gap)
+FlowTrack::FlowTrack(const FlowParams& params, double max_gap, bool keep_unfiltered)
+  : estimator_(params), max_gap_(max_gap), keep_unfiltered_(keep_unfiltered)
 {
 }
 
@@ -18,7 +20,8 @@ FlowTrack::Step FlowTrack::add(const Cloud& cloud, double stamp)
     if (std::isfinite(dt) && dt > 0.0 && dt <= max_gap_)
     {
       step.status = Status::Flow;
-      step.result = estimator_.estimate(*previous_, *frame);
+      step.result = keep_unfiltered_ ? estimator_.estimate(*previous_, *frame, step.unfiltered)
+                                     : estimator_.estimate(*previous_, *frame);
     }
     else
     {
@@ -29,33 +32,84 @@ FlowTrack::Step FlowTrack::add(const Cloud& cloud, double stamp)
   return step;
 }
 
-PersonPipeline::PersonPipeline(const RecognitionParams& params)
-  : params_(params), track_(params.flow), grid_(params.grid), sequence_(params.frames)
+PersonPipeline::PersonPipeline(const RecognitionParams& params) : PersonPipeline(std::vector<RecognitionParams>{ params })
 {
 }
 
-FlowTrack::Step PersonPipeline::add(const Cloud& cloud, double stamp, const PersonFrame& where)
+PersonPipeline::PersonPipeline(const std::vector<RecognitionParams>& variants)
 {
-  FlowTrack::Step step = track_.add(cloud, stamp);
-  if (step.status == FlowTrack::Status::Reset)
-    clear();
-  if (step.status == FlowTrack::Status::Flow)
+  if (variants.empty())
+    throw std::invalid_argument("PersonPipeline: no parameter set given");
+  // Flow parameters up to step 4, per shared flow track.
+  std::vector<FlowParams> shared;
+  std::vector<bool> needs_unfiltered;
+  const auto same_matching = [](FlowParams a, FlowParams b) {
+    a.reject_outliers = b.reject_outliers = true;
+    return a.k == b.k && a.reciprocal == b.reciprocal && a.min_speed == b.min_speed &&
+           a.isolation_speed == b.isolation_speed && a.neighbour_radius == b.neighbour_radius;
+  };
+  for (const auto& v : variants)
   {
-    descriptors_.push_back(grid_.compute(step.result.flow, where));
-    stamps_.push_back(stamp);
+    std::size_t f = 0;
+    while (f < shared.size() && !same_matching(shared[f], v.flow))
+      ++f;
+    if (f == shared.size())
+    {
+      shared.push_back(v.flow);
+      needs_unfiltered.push_back(false);
+    }
+    // The track rejects outliers when any of its variants wants that; the others read the flow
+    // before step 4.
+    if (v.flow.reject_outliers && !shared[f].reject_outliers)
+    {
+      shared[f].reject_outliers = true;
+      needs_unfiltered[f] = true;
+    }
+    else if (!v.flow.reject_outliers && shared[f].reject_outliers)
+      needs_unfiltered[f] = true;
+    variants_.push_back({ f, !v.flow.reject_outliers, GridDescriptor(v.grid), SequenceDescriptor(v.frames), {}, {} });
   }
-  return step;
+  for (std::size_t f = 0; f < shared.size(); ++f)
+    flows_.emplace_back(shared[f], 1.0, needs_unfiltered[f]);
 }
 
-Eigen::VectorXf PersonPipeline::sequence(const Pca& pca) const
+void PersonPipeline::add(const Cloud& cloud, double stamp, const PersonFrame& where)
 {
-  return sequence_.compute(descriptors_, stamps_, pca);
+  std::vector<FlowTrack::Step> steps;
+  steps.reserve(flows_.size());
+  for (auto& f : flows_)
+    steps.push_back(f.add(cloud, stamp));
+  for (auto& v : variants_)
+  {
+    const FlowTrack::Step& step = steps[v.flow];
+    if (step.status == FlowTrack::Status::Reset)
+    {
+      v.descriptors.clear();
+      v.stamps.clear();
+    }
+    if (step.status == FlowTrack::Status::Flow)
+    {
+      // A track that does not reject outliers has its flow in result (unfiltered stays empty).
+      const bool from_unfiltered = v.unfiltered && flows_[v.flow].estimator().params().reject_outliers;
+      v.descriptors.push_back(v.grid.compute(from_unfiltered ? step.unfiltered : step.result.flow, where));
+      v.stamps.push_back(stamp);
+    }
+  }
+}
+
+Eigen::VectorXf PersonPipeline::sequence(const Pca& pca, std::size_t v) const
+{
+  const Variant& variant = variants_.at(v);
+  return variant.sequence.compute(variant.descriptors, variant.stamps, pca);
 }
 
 void PersonPipeline::clear()
 {
-  descriptors_.clear();
-  stamps_.clear();
+  for (auto& v : variants_)
+  {
+    v.descriptors.clear();
+    v.stamps.clear();
+  }
 }
 
 }  // namespace action_flow

@@ -15,11 +15,14 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
   for (const auto& v : variants)
     if (std::fabs(v.voxel_size - tracker_params.person_voxel_size) > 1e-6f)
       throw std::invalid_argument("extractSample: the flow's voxel size differs from the tracker's person clouds");
+  if (variants.empty())
+    return {};
   PeopleTracker tracker(tracker_params);
-  // Per track id: one pipeline per variant, and how many frames the track was seen in.
+  // Per track id: one pipeline for all variants (they share the flow's matching), and how many
+  // frames the track was seen in.
   struct Track
   {
-    std::vector<std::unique_ptr<PersonPipeline>> pipelines;
+    std::unique_ptr<PersonPipeline> pipeline;
     int seen = 0;
   };
   std::map<std::uint32_t, Track> tracks;
@@ -33,14 +36,13 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
     for (const auto& person : result.people)
     {
       Track& t = tracks[person.id];
-      if (t.pipelines.empty())
-        for (const auto& v : variants)
-          t.pipelines.push_back(std::make_unique<PersonPipeline>(v));
+      if (!t.pipeline)
+        t.pipeline = std::make_unique<PersonPipeline>(variants);
       ++t.seen;
-      for (auto& p : t.pipelines)
-        p->add(*person.cloud, stamp, person.frame);
+      t.pipeline->add(*person.cloud, stamp, person.frame);
     }
   }
+
   std::vector<SampleFrames> out(variants.size());
   const Track* best = nullptr;
   for (const auto& kv : tracks)
@@ -50,11 +52,11 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
     return out;
   for (std::size_t v = 0; v < variants.size(); ++v)
   {
-    const PersonPipeline& p = *best->pipelines[v];
-    out[v].stamps = p.stamps();
-    out[v].descriptors.resize(static_cast<Eigen::Index>(p.descriptors().size()), 3 * variants[v].grid.cells());
-    for (std::size_t r = 0; r < p.descriptors().size(); ++r)
-      out[v].descriptors.row(static_cast<Eigen::Index>(r)) = p.descriptors()[r].transpose();
+    const PersonPipeline& p = *best->pipeline;
+    out[v].stamps = p.stamps(v);
+    out[v].descriptors.resize(static_cast<Eigen::Index>(p.descriptors(v).size()), 3 * variants[v].grid.cells());
+    for (std::size_t r = 0; r < p.descriptors(v).size(); ++r)
+      out[v].descriptors.row(static_cast<Eigen::Index>(r)) = p.descriptors(v)[r].transpose();
   }
   return out;
 }

@@ -169,10 +169,13 @@ int main(int argc, char** argv)
                           { "test_per_fold", folds.front().test.size() } };
     report["frames"] = base.frames;
     json results = json::array();
+    // The PCA basis of each fold, fitted once on its frame descriptors (it does not depend on F),
+    // serves the PCA variant and the whole frames sweep.
+    std::vector<Pca> fold_pcas;
     for (const auto& v : variants)
     {
       std::vector<double> fold_acc;
-      const Confusion c = runFolds(labelled(v.extraction), folds, v.params, &fold_acc);
+      const Confusion c = runFolds(labelled(v.extraction), folds, v.params, &fold_acc, &fold_pcas);
       double mean_fold = 0.0;
       for (double a : fold_acc)
         mean_fold += a / fold_acc.size();
@@ -183,9 +186,8 @@ int main(int argc, char** argv)
                           { "fold_accuracy", fold_acc },
                           { "confusion", confusionJson(c) },
                           { "pca_components", nullptr } });
-      if (v.params.use_pca)
-        results.back()["pca_components"] =
-            trainModel(labelled(v.extraction), folds.front().train, v.params).pca.outputSize();
+      if (v.params.use_pca && !fold_pcas.empty())
+        results.back()["pca_components"] = fold_pcas.front().outputSize();
       writeAtomically(dir + "/confusion_" + v.name + ".csv", confusionCsv(c));
       std::printf("%-36s accuracy %5.1f%%  (mean over folds %5.1f%%)\n", v.title.c_str(), 100 * c.accuracy(),
                   100 * mean_fold);
@@ -195,7 +197,6 @@ int main(int argc, char** argv)
     const int sweep = static_cast<int>(args.number("sweep", 40));
     if (sweep > 0)
     {
-      std::vector<Pca> pcas;  // per fold, fitted once: the basis does not depend on F
       json curve = { { "frames", json::array() }, { "sumflow", json::array() }, { "sumflow_pca", json::array() } };
       for (int f = 1; f <= sweep; ++f)
       {
@@ -203,7 +204,7 @@ int main(int argc, char** argv)
         a.frames = b.frames = f;
         curve["frames"].push_back(f);
         curve["sumflow"].push_back(runFolds(labelled(0), folds, a).accuracy());
-        curve["sumflow_pca"].push_back(runFolds(labelled(0), folds, b, nullptr, &pcas).accuracy());
+        curve["sumflow_pca"].push_back(runFolds(labelled(0), folds, b, nullptr, &fold_pcas).accuracy());
         std::fprintf(stderr, "\r  frames sweep: %d/%d", f, sweep);
       }
       std::fprintf(stderr, "\n");

@@ -212,3 +212,44 @@ TEST(FlowTrack, ResetsWhenTimeGoesBackwardsOrJumps)
   EXPECT_EQ(track.add(block, 5.0).status, FlowTrack::Status::Reset);
   EXPECT_EQ(track.add(block, 5.0).status, FlowTrack::Status::Reset);
 }
+
+// Several parameter sets in one PersonPipeline share the flow's matching; each set's descriptors
+// must be exactly those of a pipeline of its own, including the set without outlier rejection.
+TEST(PersonPipeline, VariantsSharingTheMatchingGiveTheirOwnDescriptors)
+{
+  RecognitionParams sum, mean, raw, other_k;
+  sum.grid.aggregation = raw.grid.aggregation = other_k.grid.aggregation = FlowAggregation::Sum;
+  mean.grid.aggregation = FlowAggregation::Mean;
+  raw.flow.reject_outliers = false;
+  other_k.flow.k = 10;
+  const std::vector<RecognitionParams> sets = { sum, mean, raw, other_k };
+  PersonPipeline shared(sets);
+  std::vector<std::unique_ptr<PersonPipeline>> alone;
+  for (const auto& s : sets)
+    alone.push_back(std::make_unique<PersonPipeline>(s));
+
+  // A still, noisy body (noise flow is what rejection removes) and a block moving across it.
+  const Cloud body = texturedBlock(10, 20, 4, Eigen::Vector3f(-0.1f, -0.2f, 2.0f));
+  const Cloud hand = texturedBlock(3, 3, 3, Eigen::Vector3f(0.2f, 0.0f, 1.9f));
+  const PersonFrame where = PersonFrame::fromGround(Eigen::Vector3f(0, 0, 2), Eigen::Vector4f(0, -1, 0, 1), 1.75f,
+                                                    Eigen::Vector3f(0, 0, 2));
+  const double stamps[] = { 1.0, 1.0 + kDt, 1.0 + 2 * kDt, 1.0 + 3 * kDt, 0.5, 0.5 + kDt, 0.5 + 2 * kDt };
+  for (int i = 0; i < 7; ++i)
+  {
+    Cloud frame = noisy(body, 0.003f, 2, static_cast<unsigned>(i + 1));
+    frame += shifted(hand, Eigen::Vector3f(0.0f, 0.04f * i, 0.0f));
+    shared.add(frame, stamps[i], where);
+    for (auto& p : alone)
+      p->add(frame, stamps[i], where);
+  }
+  ASSERT_EQ(shared.variants(), sets.size());
+  for (std::size_t v = 0; v < sets.size(); ++v)
+  {
+    ASSERT_EQ(shared.descriptors(v).size(), 2u) << "set " << v << ": the time reset cleared the first three";
+    EXPECT_EQ(shared.stamps(v), alone[v]->stamps());
+    for (std::size_t f = 0; f < shared.descriptors(v).size(); ++f)
+      EXPECT_EQ(shared.descriptors(v)[f], alone[v]->descriptors()[f]) << "set " << v << ", frame " << f;
+  }
+  EXPECT_NE(shared.descriptors(0)[0], shared.descriptors(2)[0]) << "rejection must change the SUMFLOW descriptor";
+  EXPECT_NE(shared.descriptors(0)[0], shared.descriptors(3)[0]) << "K must change the SUMFLOW descriptor";
+}
