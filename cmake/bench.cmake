@@ -29,3 +29,8 @@ if(TARGET action_flow_tracker)
   target_compile_definitions(bench PRIVATE ACTION_FLOW_BENCH_TRACKER)
   target_link_libraries(bench action_flow_tracker)
 endif()
+# Classification on real frame descriptors (an evaluate cache folder, --descriptors).
+if(TARGET action_flow_eval)
+  target_compile_definitions(bench PRIVATE ACTION_FLOW_BENCH_EVAL)
+  target_link_libraries(bench action_flow_eval)
+endif()

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <algorithm>
+#include <numeric>
 #include <random>
 
 using namespace action_flow;
@@ -108,6 +110,45 @@ TEST(ActionClassifier, MajorityVoteWithK3)
   EXPECT_EQ(three.label, "b");
   EXPECT_NEAR(three.distance, 0.15f, 1e-6f);
   EXPECT_NEAR(three.margin, -0.1f, 1e-6f);
+}
+
+// The pruned search must give exactly what a scan of every row gives, whether the bound prunes
+// well (variance concentrated in few columns, as after PCA) or hardly (equal variances).
+TEST(ActionClassifier, PrunedSearchAnswersAsTheFullScan)
+{
+  for (const bool decaying : { true, false })
+    for (const int k : { 1, 3 })
+    {
+      TrainingSet t = randomSet(300, 400, 7);
+      std::mt19937 rng(8);
+      std::normal_distribution<float> n(0.0f, 1.0f);
+      // Columns in a shuffled order of decreasing spread: the classifier must find the order itself.
+      std::vector<int> spread_rank(400);
+      std::iota(spread_rank.begin(), spread_rank.end(), 0);
+      std::shuffle(spread_rank.begin(), spread_rank.end(), rng);
+      for (int j = 0; j < 400; ++j)
+        if (decaying)
+          t.descriptors.col(j) *= 10.0f / (1.0f + spread_rank[j]);
+      const ActionClassifier nn(t.descriptors, t.labels, k);
+      std::size_t completed = 0;
+      for (int q = 0; q < 100; ++q)
+      {
+        // Near a training row (a clear winner) or between two (close calls).
+        Eigen::VectorXf query = q % 2 ? Eigen::VectorXf(t.descriptors.row(q).transpose())
+                                      : Eigen::VectorXf(0.5f * (t.descriptors.row(q) + t.descriptors.row(q + 1)).transpose());
+        for (int j = 0; j < 400; ++j)
+          query[j] += 0.3f * n(rng) * (decaying ? 10.0f / (1.0f + spread_rank[j]) : 1.0f);
+        const Classification fast = nn.classify(query);
+        completed += ActionClassifier::lastCompletedRows();
+        const Classification full = nn.classifyBruteForce(query);
+        ASSERT_EQ(fast.label, full.label) << "query " << q << ", k " << k;
+        EXPECT_EQ(fast.neighbour, full.neighbour);
+        EXPECT_EQ(fast.distance, full.distance);
+        EXPECT_EQ(fast.margin, full.margin);
+      }
+      if (decaying && k == 1)
+        EXPECT_LT(completed, 100u * 300u / 4) << "the bound should spare most rows when the variance is concentrated";
+    }
 }
 
 TEST(ActionClassifier, RejectsBadInput)
