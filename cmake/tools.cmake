@@ -1,5 +1,5 @@
 # Offline tools: train and evaluate, and the evaluation library they share.
-add_library(action_flow_eval src/eval/evaluation.cpp src/eval/depth_cloud.cpp)
+add_library(action_flow_eval src/eval/evaluation.cpp)
 target_link_libraries(action_flow_eval action_flow_core)
 
 if(CATKIN_ENABLE_TESTING)

@@ -100,12 +100,8 @@ Posed solvePose(const Dims& dm, const Pose& p)
   for (int side = 0; side < 2; ++side)
   {
     const float out_sign = side == 0 ? 1.0f : -1.0f;  // +y is the person's left
-    const Joint sh = side ? Joint::RightShoulder : Joint::LeftShoulder;
-    const Joint el = side ? Joint::RightElbow : Joint::LeftElbow;
-    const Joint ha = side ? Joint::RightHand : Joint::LeftHand;
-    const Joint hp = side ? Joint::RightHip : Joint::LeftHip;
-    const Joint kn = side ? Joint::RightKnee : Joint::LeftKnee;
-    const Joint ft = side ? Joint::RightFoot : Joint::LeftFoot;
+    const LimbJoints limb = limbJoints(side);
+    const Joint sh = limb.shoulder, el = limb.elbow, ha = limb.hand, hp = limb.hip, kn = limb.knee, ft = limb.foot;
     s[sh] = s[Joint::Neck] + trunk * Eigen::Vector3f(-0.01f * dm.height, out_sign * dm.shoulder_half, -0.015f * dm.height);
     Eigen::Vector3f hand = s[sh] + trunk * p.hand[side];
     hand = mix(hand, p.hand_world[side], p.hand_world_w[side]);

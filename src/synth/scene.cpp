@@ -514,12 +514,8 @@ void SceneRenderer::Impl::buildPrims(const PosedBody& body, std::vector<Prim>& p
   const bool long_sleeves = body.appearance->long_sleeves;
   for (int side = 0; side < 2; ++side)
   {
-    const Joint sh = side ? Joint::RightShoulder : Joint::LeftShoulder;
-    const Joint el = side ? Joint::RightElbow : Joint::LeftElbow;
-    const Joint ha = side ? Joint::RightHand : Joint::LeftHand;
-    const Joint hp = side ? Joint::RightHip : Joint::LeftHip;
-    const Joint kn = side ? Joint::RightKnee : Joint::LeftKnee;
-    const Joint ft = side ? Joint::RightFoot : Joint::LeftFoot;
+    const LimbJoints limb = limbJoints(side);
+    const Joint sh = limb.shoulder, el = limb.elbow, ha = limb.hand, hp = limb.hip, kn = limb.knee, ft = limb.foot;
     capsule(Part::UpperArm, s[sh], s[el], 0.046f * b * sc);
     const Eigen::Vector3f fa = s[ha] - s[el];
     const float fa_len = fa.norm();

@@ -2,6 +2,7 @@
 // they use rosbag, the core does not).
 #pragma once
 
+#include <action_flow/depth_cloud.h>
 #include <action_flow/types.h>
 
 #include <pcl/io/pcd_io.h>
@@ -94,32 +95,22 @@ inline Cloud loadTueBag(const std::string& path)
     throw std::runtime_error(path + ": needs a 32FC1 depth image, an rgb8 image and a camera_info");
   if (depth->width != rgb->width || depth->height != rgb->height)
     throw std::runtime_error(path + ": depth and rgb sizes differ");
-  const double fx = info->K[0], fy = info->K[4], cx = info->K[2], cy = info->K[5];
+  Intrinsics k;
+  k.fx = info->K[0];
+  k.fy = info->K[4];
+  k.cx = info->K[2];
+  k.cy = info->K[5];
+  // Rows may be padded (step): copy them out contiguously for depthToCloud.
+  const std::size_t w = depth->width, h = depth->height;
+  std::vector<float> z(w * h);
+  std::vector<std::uint8_t> colour(3 * w * h);
+  for (std::size_t v = 0; v < h; ++v)
+  {
+    std::memcpy(&z[v * w], &depth->data[v * depth->step], 4 * w);
+    std::memcpy(&colour[3 * v * w], &rgb->data[v * rgb->step], 3 * w);
+  }
   Cloud c;
-  c.width = depth->width;
-  c.height = depth->height;
-  c.is_dense = false;
-  c.points.resize(static_cast<std::size_t>(c.width) * c.height);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  for (std::uint32_t v = 0; v < c.height; ++v)
-    for (std::uint32_t u = 0; u < c.width; ++u)
-    {
-      float z;
-      std::memcpy(&z, &depth->data[v * depth->step + 4 * u], sizeof z);
-      PointT& p = c.at(u, v);
-      const std::uint8_t* px = &rgb->data[v * rgb->step + 3 * u];
-      p.r = px[0];
-      p.g = px[1];
-      p.b = px[2];
-      if (!(std::isfinite(z) && z > 0.0f))
-      {
-        p.x = p.y = p.z = nan;
-        continue;
-      }
-      p.x = static_cast<float>((u - cx) * z / fx);
-      p.y = static_cast<float>((v - cy) * z / fy);
-      p.z = z;
-    }
+  depthToCloud(z.data(), colour.data(), static_cast<int>(w), static_cast<int>(h), k, c);
   return c;
 }
 

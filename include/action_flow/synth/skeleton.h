@@ -36,6 +36,21 @@ enum class Joint : int
 };
 constexpr int kJointCount = 15;
 
+/** @brief The joints of one body side's arm and leg. */
+struct LimbJoints
+{
+  Joint shoulder, elbow, hand, hip, knee, foot;
+};
+
+/** @brief The limb joints of the person's left (@p side 0) or right (@p side 1) side. */
+inline LimbJoints limbJoints(int side)
+{
+  return side == 0 ? LimbJoints{ Joint::LeftShoulder, Joint::LeftElbow, Joint::LeftHand,
+                                 Joint::LeftHip,      Joint::LeftKnee,  Joint::LeftFoot }
+                   : LimbJoints{ Joint::RightShoulder, Joint::RightElbow, Joint::RightHand,
+                                 Joint::RightHip,      Joint::RightKnee,  Joint::RightFoot };
+}
+
 /** @brief openni_tracker's name of a joint: "head", "neck", "torso", "left_shoulder", ... "right_foot". */
 const std::string& jointName(Joint j);
 
