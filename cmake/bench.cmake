@@ -29,3 +29,22 @@ if(TARGET action_flow_tracker)
   target_compile_definitions(bench PRIVATE ACTION_FLOW_BENCH_TRACKER)
   target_link_libraries(bench action_flow_tracker)
 endif()
+
+# The whole pipeline through the nodelet manager (docs/bench.md): a player nodelet that feeds
+# in-memory synthetic frames to depth_image_proc and the stages in the same manager and measures
+# fps, CPU, latency and memory. Needs the ROS part.
+if(TARGET action_flow_ros)
+  add_library(action_flow_bench_nodelet src/bench/bench_player_nodelet.cpp)
+  target_link_libraries(action_flow_bench_nodelet action_flow_ros ${catkin_LIBRARIES})
+  install(TARGETS action_flow_bench_nodelet
+    ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+    LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+  install(PROGRAMS scripts/bench_pipeline scripts/bench_pipeline_report.py
+    DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+  if(CATKIN_ENABLE_TESTING)
+    find_package(rostest REQUIRED)
+    find_package(roslaunch REQUIRED)
+    roslaunch_add_file_check(launch/bench_pipeline.launch bags:=a.bag model:=a.model output:=out)
+  endif()
+endif()
