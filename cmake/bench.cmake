@@ -46,5 +46,23 @@ if(TARGET action_flow_ros)
     find_package(rostest REQUIRED)
     find_package(roslaunch REQUIRED)
     roslaunch_add_file_check(launch/bench_pipeline.launch bags:=a.bag model:=a.model output:=out)
+
+    # A short closed-loop run of the same launch on one small synthetic bag (40 frames, looped).
+    if(TARGET synth AND TARGET action_flow_test_models)
+      set(ACTION_FLOW_BENCH_BAG ${CMAKE_BINARY_DIR}/bench_pipeline_bag/ias/p01_wave_1.bag)
+      add_custom_command(OUTPUT ${ACTION_FLOW_BENCH_BAG}
+        COMMAND synth --out ${CMAKE_BINARY_DIR}/bench_pipeline_bag --people 1 --person p01 --action wave
+                --repetitions 1 --frames 40 --raw-images --quiet
+        DEPENDS synth
+        COMMENT "Rendering the whole-pipeline benchmark's test bag")
+      add_custom_target(action_flow_bench_bag DEPENDS ${ACTION_FLOW_BENCH_BAG})
+      add_executable(test_bench_pipeline EXCLUDE_FROM_ALL test/bench/test_bench_pipeline.cpp)
+      target_link_libraries(test_bench_pipeline ${catkin_LIBRARIES} gtest)
+      add_dependencies(tests test_bench_pipeline action_flow_bench_bag action_flow_bench_nodelet)
+      add_rostest(test/bench/bench_pipeline.test
+        ARGS bag:=${ACTION_FLOW_BENCH_BAG} model:=${CMAKE_BINARY_DIR}/test_models/two_actions.afm
+             output:=${CMAKE_BINARY_DIR}/bench_pipeline_test
+        DEPENDENCIES test_bench_pipeline action_flow_bench_bag action_flow_test_models)
+    endif()
   endif()
 endif()
