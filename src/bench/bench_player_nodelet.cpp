@@ -424,8 +424,10 @@ private:
     }
     copy_ms_ = bench::StageSamples();
     load_start_ = loadAverage();
-    const std::string pacing = mode_ == "rate" ? "rate " + std::to_string(rate_) + " Hz" : "max";
-    NODELET_INFO("bench_player: measuring %d frames, mode %s (load average %s)", frames_, pacing.c_str(),
+    char pacing[64] = "max";
+    if (mode_ == "rate")
+      std::snprintf(pacing, sizeof(pacing), "rate %g Hz", rate_);
+    NODELET_INFO("bench_player: measuring %d frames, mode %s (load average %s)", frames_, pacing,
                  load_start_.c_str());
 
     start_wall_ = steadySeconds();
