@@ -39,8 +39,6 @@ if(TARGET action_flow_ros)
   install(TARGETS action_flow_bench_nodelet
     ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
     LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-  install(PROGRAMS scripts/bench_pipeline scripts/bench_pipeline_report.py
-    DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
   if(CATKIN_ENABLE_TESTING)
     find_package(rostest REQUIRED)

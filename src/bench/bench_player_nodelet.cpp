@@ -518,7 +518,10 @@ private:
                  latency.empty() ? 0.0 : latency.median(), latency.empty() ? 0.0 : latency.p95(), residentMb());
   }
 
-  /** RSS growth, MB per 1000 frames, between the mean of the 2nd quarter's samples and the last quarter's. */
+  /**
+ * RSS growth, MB per 1000 frames, between the mean of the 2nd quarter's samples and the last
+ * quarter's; null with fewer than 3 samples in either (runs shorter than ~12 x sample_every).
+ */
   nlohmann::json rssGrowth(std::size_t frames) const
   {
     double sum2 = 0, sum4 = 0, f2 = 0, f4 = 0;
@@ -538,7 +541,8 @@ private:
         ++n4;
       }
     }
-    if (n2 == 0 || n4 == 0 || f4 / n4 <= f2 / n2)
+    // A few samples per quarter would mostly show the start-up rise and the loop's sawtooth.
+    if (n2 < 3 || n4 < 3 || f4 / n4 <= f2 / n2)
       return nullptr;
     return 1000.0 * (sum4 / n4 - sum2 / n2) / (f4 / n4 - f2 / n2);
   }
