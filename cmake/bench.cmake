@@ -34,3 +34,38 @@ if(TARGET action_flow_eval)
   target_compile_definitions(bench PRIVATE ACTION_FLOW_BENCH_EVAL)
   target_link_libraries(bench action_flow_eval)
 endif()
+
+# The whole pipeline through the nodelet manager (docs/bench.md): a player nodelet that feeds
+# in-memory synthetic frames to depth_image_proc and the stages in the same manager and measures
+# fps, CPU, latency and memory. Needs the ROS part.
+if(TARGET action_flow_ros)
+  add_library(action_flow_bench_nodelet src/bench/bench_player_nodelet.cpp)
+  target_link_libraries(action_flow_bench_nodelet action_flow_ros ${catkin_LIBRARIES})
+  install(TARGETS action_flow_bench_nodelet
+    ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+    LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+
+  if(CATKIN_ENABLE_TESTING)
+    find_package(rostest REQUIRED)
+    find_package(roslaunch REQUIRED)
+    roslaunch_add_file_check(launch/bench_pipeline.launch bags:=a.bag model:=a.model output:=out)
+
+    # A short closed-loop run of the same launch on one small synthetic bag (40 frames, looped).
+    if(TARGET synth AND TARGET action_flow_test_models)
+      set(ACTION_FLOW_BENCH_BAG ${CMAKE_BINARY_DIR}/bench_pipeline_bag/ias/p01_wave_1.bag)
+      add_custom_command(OUTPUT ${ACTION_FLOW_BENCH_BAG}
+        COMMAND synth --out ${CMAKE_BINARY_DIR}/bench_pipeline_bag --people 1 --person p01 --action wave
+                --repetitions 1 --frames 40 --raw-images --quiet
+        DEPENDS synth
+        COMMENT "Rendering the whole-pipeline benchmark's test bag")
+      add_custom_target(action_flow_bench_bag DEPENDS ${ACTION_FLOW_BENCH_BAG})
+      add_executable(test_bench_pipeline EXCLUDE_FROM_ALL test/bench/test_bench_pipeline.cpp)
+      target_link_libraries(test_bench_pipeline ${catkin_LIBRARIES} gtest)
+      add_dependencies(tests test_bench_pipeline action_flow_bench_bag action_flow_bench_nodelet)
+      add_rostest(test/bench/bench_pipeline.test
+        ARGS bag:=${ACTION_FLOW_BENCH_BAG} model:=${CMAKE_BINARY_DIR}/test_models/two_actions.afm
+             output:=${CMAKE_BINARY_DIR}/bench_pipeline_test
+        DEPENDENCIES test_bench_pipeline action_flow_bench_bag action_flow_test_models)
+    endif()
+  endif()
+endif()
