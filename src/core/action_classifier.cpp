@@ -40,22 +40,23 @@ ActionClassifier::ActionClassifier(const Eigen::MatrixXf& descriptors, std::vect
       classes_.push_back(l);
   }
   const Eigen::Index dims = descriptors.cols();
-  const Eigen::RowVectorXf variance =
-      (descriptors.rowwise() - descriptors.colwise().mean()).array().square().colwise().sum().matrix();
+  // The mean evaluated first: inside the broadcast Eigen would recompute it for every row.
+  const Eigen::RowVectorXf mean = descriptors.colwise().mean();
+  const Eigen::RowVectorXf variance = (descriptors.rowwise() - mean).array().square().colwise().sum().matrix();
   columns_.resize(static_cast<std::size_t>(dims));
   std::iota(columns_.begin(), columns_.end(), Eigen::Index(0));
   std::stable_sort(columns_.begin(), columns_.end(),
                    [&](Eigen::Index a, Eigen::Index b) { return variance[a] > variance[b]; });
   const Eigen::Index head = std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::ceil(kHeadShare * dims)));
-  head_.resize(descriptors.rows(), head);
-  tail_.resize(descriptors.rows(), dims - head);
-  for (Eigen::Index j = 0; j < dims; ++j)
-  {
-    if (j < head)
-      head_.col(j) = descriptors.col(columns_[j]);
-    else
-      tail_.col(j - head) = descriptors.col(columns_[j]);
-  }
+  // Reorder the columns row by row on a row-major copy: writing the columns of a row-major
+  // matrix one by one strides through memory and made building a model slower than using it.
+  const RowMajorMatrix rows = descriptors;
+  RowMajorMatrix reordered(rows.rows(), dims);
+  for (Eigen::Index i = 0; i < rows.rows(); ++i)
+    for (Eigen::Index j = 0; j < dims; ++j)
+      reordered(i, j) = rows(i, columns_[j]);
+  head_ = reordered.leftCols(head);
+  tail_ = reordered.rightCols(dims - head);
 }
 
 std::size_t ActionClassifier::lastCompletedRows()
