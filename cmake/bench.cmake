@@ -63,7 +63,7 @@ if(TARGET action_flow_ros)
       target_link_libraries(test_bench_pipeline ${catkin_LIBRARIES} gtest)
       add_dependencies(tests test_bench_pipeline action_flow_bench_bag action_flow_bench_nodelet)
       add_rostest(test/bench/bench_pipeline.test
-        ARGS bag:=${ACTION_FLOW_BENCH_BAG} model:=${CMAKE_BINARY_DIR}/test_models/two_actions.afm
+        ARGS bag:=${ACTION_FLOW_BENCH_BAG} model:=${CMAKE_BINARY_DIR}/test_models/posture_flow.afm
              output:=${CMAKE_BINARY_DIR}/bench_pipeline_test
         DEPENDENCIES test_bench_pipeline action_flow_bench_bag action_flow_test_models)
     endif()

@@ -27,6 +27,12 @@ struct Classification
   float margin = 0.0f;
   /** Row of the nearest training sequence of that label. */
   std::size_t neighbour = 0;
+  /**
+   * How sure the classifier is, in [0,1], for a threshold: the label's probability from the
+   * linear classifier; from nearest neighbours margin / (distance + margin) (0 when margin <= 0,
+   * 1 with a one-label training set).
+   */
+  float confidence = 0.0f;
 };
 
 /**

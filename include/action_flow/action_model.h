@@ -8,27 +8,60 @@
 #include <action_flow/action_classifier.h>
 #include <action_flow/flow_estimator.h>
 #include <action_flow/grid_descriptor.h>
+#include <action_flow/linear_classifier.h>
 #include <action_flow/pca.h>
+#include <action_flow/temporal_pyramid.h>
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace action_flow
 {
-/** @brief Every parameter of the method, from person cloud to sequence descriptor. */
+/** @brief Which recognizer turns flow into labels. */
+enum class Recognizer
+{
+  Paper,       ///< the paper's: SUMFLOW/MEANFLOW frames, F of them concatenated (PCA optional), k-NN
+  PostureFlow  ///< the default: posture-and-flow frames, a temporal pyramid, a linear classifier
+};
+/** "paper" or "posture_flow". */
+std::string toString(Recognizer r);
+/** @throws std::invalid_argument for any other name. */
+Recognizer recognizerFromString(const std::string& name);
+
+/**
+ * @brief Every parameter of the method, from person cloud to sequence descriptor. The struct's
+ *        defaults are the paper's method; config/recognition.yaml and the tools select the
+ *        default recognizer, posture_flow.
+ */
 struct RecognitionParams
 {
+  Recognizer recognizer = Recognizer::Paper;
   float voxel_size = 0.02f;  ///< person clouds are voxelised to this (m); the paper's 0.02
   FlowParams flow;
-  GridParams grid;
-  int frames = 30;           ///< F, frames per sequence descriptor
-  bool use_pca = false;      ///< project frame descriptors on a PCA basis
+  GridParams grid;           ///< the grid of both recognizers (aggregation: the paper's only)
+  int frames = 30;           ///< paper: F, frames per sequence descriptor
+  bool use_pca = false;      ///< paper: project frame descriptors on a PCA basis
   double pca_variance = 0.99;
-  int neighbours = 1;        ///< k of the k-NN classifier (1 = the paper's nearest neighbour)
+  int neighbours = 1;        ///< paper (and posture_flow with classifier nn): k of the k-NN classifier
+  PyramidParams pyramid;     ///< posture_flow: the parts after the frame descriptor
 };
+
+/** @brief The default recognizer's parameters (posture_flow, every part on). */
+RecognitionParams defaultRecognitionParams();
+
+/** @brief Length of one frame descriptor under @p p: 3 per cube (paper) or the posture-and-flow layout. */
+int frameDescriptorLength(const RecognitionParams& p);
+
+/**
+ * @brief The frame descriptor of a person under @p p: GridDescriptor (paper, from the flow alone)
+ *        or PostureFlowDescriptor (from the person's cloud and flow).
+ */
+Eigen::VectorXf frameDescriptor(const RecognitionParams& p, const Cloud& cloud, const FlowVectors& flow,
+                                const PersonFrame& where);
 
 /**
  * @brief Names the parameters in which @p model and @p runtime differ in a way that changes the
@@ -44,17 +77,42 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/**
+ * @brief A model's classifier, whichever it is: k-NN over the training sequences (ActionClassifier)
+ *        or the linear classifier.
+ */
+class SequenceClassifier
+{
+public:
+  explicit SequenceClassifier(ActionClassifier nearest) : nearest_(std::move(nearest)) {}
+  explicit SequenceClassifier(LinearClassifier linear) : linear_(std::move(linear)) {}
+  /** @throws std::invalid_argument if @p sequence has the wrong length or is not finite. */
+  Classification classify(const Eigen::VectorXf& sequence) const
+  {
+    return nearest_ ? nearest_->classify(sequence) : linear_.classify(sequence);
+  }
+  const std::vector<std::string>& classes() const { return nearest_ ? nearest_->classes() : linear_.classes(); }
+
+private:
+  std::optional<ActionClassifier> nearest_;
+  LinearClassifier linear_;
+};
+
 /** @brief Training set and its parameters. */
 struct ActionModel
 {
-  /** Bumped whenever the layout of the file changes; older files are refused with a clear message. */
-  static constexpr std::uint32_t kFormatVersion = 1;
+  /**
+   * Bumped whenever the layout of the file changes. Version 1 (the paper's recognizer only) still
+   * loads; other versions are refused with a clear message.
+   */
+  static constexpr std::uint32_t kFormatVersion = 2;
 
   RecognitionParams params;
   Pca pca;                          ///< empty unless params.use_pca
   Eigen::MatrixXf descriptors;      ///< one sequence descriptor per row
   std::vector<std::string> labels;  ///< action of each row
   std::vector<std::string> persons; ///< who performed each row (for leave-one-person-out)
+  LinearClassifier linear;          ///< posture_flow with the linear classifier: its weights
 
   /**
    * @brief Writes the model to @p path atomically (a temporary file renamed into place).
@@ -72,8 +130,12 @@ struct ActionModel
   /** @throws ModelError naming @p path and the differing parameters if they do not agree. */
   void checkCompatible(const RecognitionParams& runtime, const std::string& path) const;
 
-  /** @brief A classifier over the training rows. */
-  ActionClassifier classifier() const;
+  /** @brief The sequence descriptor of a person's frame descriptors (in time order) under this model. */
+  Eigen::VectorXf sequence(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps) const;
+  /** @brief Length of that sequence descriptor. */
+  Eigen::Index sequenceLength() const;
+  /** @brief The model's classifier: k-NN over the training rows, or the linear classifier. */
+  SequenceClassifier classifier() const;
 };
 
 }  // namespace action_flow

@@ -102,10 +102,25 @@ struct LabelledSample
  * @brief Builds a model from the samples at @p rows: PCA fitted on their frame descriptors when
  *        params.use_pca (or @p fitted when given), then one sequence descriptor per sample. A sample without any frame
  *        descriptor (no flow was ever found) counts as one still frame: all zeros.
+ *        posture_flow: with pyramid.mirror each sample is added mirrored too; with the linear
+ *        classifier and pyramid.c = 0, C is chosen by chooseLinearC on these rows alone and
+ *        recorded in the model's parameters.
  * @throws std::invalid_argument if @p rows is empty
  */
 ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
                        const RecognitionParams& params, const Pca* fitted = nullptr);
+
+/** @brief The values of the linear classifier's C that chooseLinearC tries. */
+const std::vector<double>& linearCandidates();
+
+/**
+ * @brief Chooses the linear classifier's C by cross-validation over people: the people of
+ *        @p persons are dealt into @p inner_folds groups, each group is held out in turn, and the
+ *        C of linearCandidates() with the best mean accuracy wins (the smaller C on a tie). Only
+ *        the rows given are seen, so called on a fold's training set it never sees a test person.
+ */
+double chooseLinearC(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
+                     const std::vector<std::string>& persons, int inner_folds = 3);
 
 /** @brief The PCA basis trainModel fits on the frame descriptors of @p rows. */
 Pca fitPca(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows, double variance);
@@ -118,11 +133,12 @@ Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& mode
  * @param fold_accuracy if given, receives each fold's accuracy
  * @param fold_pcas if given and params.use_pca: the fold's PCA bases, fitted on the first call
  *        (empty vector) and reused after, since the basis does not depend on F
+ * @param jobs folds trained at once (threads)
  * @throws std::invalid_argument if a fold's training set contains a person of its test set
  */
 Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
                    const RecognitionParams& params, std::vector<double>* fold_accuracy = nullptr,
-                   std::vector<Pca>* fold_pcas = nullptr);
+                   std::vector<Pca>* fold_pcas = nullptr, int jobs = 1);
 
 /** @brief Sorted, de-duplicated copy. */
 std::vector<std::string> uniqueSorted(std::vector<std::string> v);

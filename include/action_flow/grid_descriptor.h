@@ -89,6 +89,12 @@ public:
    */
   int cellOf(const Eigen::Vector3f& local, float person_height) const;
 
+  /**
+   * @brief Where a point given in grid coordinates lies in the grid, as fractions in [0,1) along
+   *        x, y and z; false outside the grid. cellOf() cuts these into parts.
+   */
+  bool normalised(const Eigen::Vector3f& local, float person_height, Eigen::Vector3f& uvw) const;
+
   /** @brief Computes the descriptor of @p flow for a person at @p person. */
   Eigen::VectorXf compute(const FlowVectors& flow, const PersonFrame& person) const;
 

@@ -92,7 +92,7 @@ private:
   {
     std::size_t flow;   ///< index into flows_
     bool unfiltered;    ///< uses the flow before step 4
-    GridDescriptor grid;
+    RecognitionParams params;
     SequenceDescriptor sequence;
     std::vector<Eigen::VectorXf> descriptors;
     std::vector<double> stamps;

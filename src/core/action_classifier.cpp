@@ -227,6 +227,10 @@ Classification ActionClassifier::decide(const std::vector<float>& best, const st
     if (static_cast<int>(c) != winner)
       other = std::min(other, best[c]);
   out.margin = std::isinf(other) ? other : std::sqrt(other) - out.distance;
+  if (std::isinf(out.margin))
+    out.confidence = 1.0f;
+  else if (out.margin > 0.0f)
+    out.confidence = out.margin / (out.distance + out.margin);
   return out;
 }
 

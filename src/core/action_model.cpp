@@ -1,5 +1,8 @@
 #include <action_flow/action_model.h>
 
+#include <action_flow/posture_flow.h>
+#include <action_flow/sequence_descriptor.h>
+
 #include <boost/crc.hpp>
 
 #include <cstdio>
@@ -123,9 +126,18 @@ void putParams(Writer& w, const RecognitionParams& p)
   w.put<std::uint8_t>(p.use_pca);
   w.put(p.pca_variance);
   w.put<std::int32_t>(p.neighbours);
+  // Since format version 2.
+  w.put<std::int32_t>(p.recognizer == Recognizer::Paper ? 0 : 1);
+  w.put<std::uint8_t>(p.pyramid.posture);
+  w.put<std::uint8_t>(p.pyramid.direction_histogram);
+  w.put<std::uint8_t>(p.pyramid.coarse_to_fine);
+  w.put<std::int32_t>(p.pyramid.temporal_levels);
+  w.put<std::int32_t>(p.pyramid.classifier == PyramidClassifier::Linear ? 0 : 1);
+  w.put(p.pyramid.c);
+  w.put<std::uint8_t>(p.pyramid.mirror);
 }
 
-RecognitionParams getParams(Reader& r)
+RecognitionParams getParams(Reader& r, std::uint32_t version)
 {
   RecognitionParams p;
   p.voxel_size = r.get<float>();
@@ -150,6 +162,24 @@ RecognitionParams getParams(Reader& r)
   p.use_pca = r.get<std::uint8_t>() != 0;
   p.pca_variance = r.get<double>();
   p.neighbours = r.get<std::int32_t>();
+  if (version < 2)
+    return p;  // version 1 held the paper's recognizer only
+  const auto recognizer = r.get<std::int32_t>();
+  if (recognizer != 0 && recognizer != 1)
+    r.fail("unknown recognizer code " + std::to_string(recognizer));
+  p.recognizer = recognizer == 0 ? Recognizer::Paper : Recognizer::PostureFlow;
+  p.pyramid.posture = r.get<std::uint8_t>() != 0;
+  p.pyramid.direction_histogram = r.get<std::uint8_t>() != 0;
+  p.pyramid.coarse_to_fine = r.get<std::uint8_t>() != 0;
+  p.pyramid.temporal_levels = r.get<std::int32_t>();
+  if (p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
+    r.fail("temporal pyramid levels " + std::to_string(p.pyramid.temporal_levels) + " outside 1..4");
+  const auto classifier = r.get<std::int32_t>();
+  if (classifier != 0 && classifier != 1)
+    r.fail("unknown classifier code " + std::to_string(classifier));
+  p.pyramid.classifier = classifier == 0 ? PyramidClassifier::Linear : PyramidClassifier::Nearest;
+  p.pyramid.c = r.get<double>();
+  p.pyramid.mirror = r.get<std::uint8_t>() != 0;
   return p;
 }
 
@@ -162,11 +192,68 @@ void compare(std::ostringstream& out, const char* name, const T& model, const T&
     out << "; ";
   out << name << ": model " << model << ", runtime " << runtime;
 }
+void readLinear(Reader& r, ActionModel& m)
+{
+  const auto n = r.get<std::uint64_t>();
+  if (n > 100000)
+    r.fail("implausible number of classes " + std::to_string(n));
+  std::vector<std::string> classes;
+  for (std::uint64_t i = 0; i < n; ++i)
+    classes.push_back(r.getString());
+  Eigen::MatrixXf w = r.getMatrix(), b = r.getMatrix(), mean = r.getMatrix(), scale = r.getMatrix();
+  if (n == 0 && w.size() == 0)
+    return;
+  if (b.cols() != 1 || mean.cols() != 1 || scale.cols() != 1)
+    r.fail("linear classifier: bias, mean and scale must be vectors");
+  try
+  {
+    m.linear = LinearClassifier(classes, w, b.col(0), mean.col(0), scale.col(0));
+  }
+  catch (const std::invalid_argument& e)
+  {
+    r.fail(std::string("linear classifier: ") + e.what());
+  }
+}
 }  // namespace
+
+std::string toString(Recognizer r)
+{
+  return r == Recognizer::Paper ? "paper" : "posture_flow";
+}
+
+Recognizer recognizerFromString(const std::string& name)
+{
+  if (name == "paper")
+    return Recognizer::Paper;
+  if (name == "posture_flow")
+    return Recognizer::PostureFlow;
+  throw std::invalid_argument("unknown recognizer '" + name + "' (expected paper or posture_flow)");
+}
+
+RecognitionParams defaultRecognitionParams()
+{
+  RecognitionParams p;
+  p.recognizer = Recognizer::PostureFlow;
+  return p;
+}
+
+int frameDescriptorLength(const RecognitionParams& p)
+{
+  return p.recognizer == Recognizer::Paper ? 3 * p.grid.cells() : PostureFlowDescriptor(p.grid).size();
+}
+
+Eigen::VectorXf frameDescriptor(const RecognitionParams& p, const Cloud& cloud, const FlowVectors& flow,
+                                const PersonFrame& where)
+{
+  if (p.recognizer == Recognizer::Paper)
+    return GridDescriptor(p.grid).compute(flow, where);
+  return PostureFlowDescriptor(p.grid).compute(cloud, flow, where);
+}
 
 std::string describeDifferences(const RecognitionParams& m, const RecognitionParams& r)
 {
   std::ostringstream out;
+  compare(out, "recognizer", toString(m.recognizer), toString(r.recognizer));
   compare(out, "voxel_size", m.voxel_size, r.voxel_size);
   compare(out, "flow.k", m.flow.k, r.flow.k);
   compare(out, "flow.reciprocal", m.flow.reciprocal, r.flow.reciprocal);
@@ -181,8 +268,11 @@ std::string describeDifferences(const RecognitionParams& m, const RecognitionPar
   compare(out, "grid.height", m.grid.height, r.grid.height);
   compare(out, "grid.depth", m.grid.depth, r.grid.depth);
   compare(out, "grid.reference_height", m.grid.reference_height, r.grid.reference_height);
-  compare(out, "descriptor", toString(m.grid.aggregation), toString(r.grid.aggregation));
-  compare(out, "frames", m.frames, r.frames);
+  if (m.recognizer == Recognizer::Paper && r.recognizer == Recognizer::Paper)
+  {
+    compare(out, "descriptor", toString(m.grid.aggregation), toString(r.grid.aggregation));
+    compare(out, "frames", m.frames, r.frames);
+  }
   return out.str();
 }
 
@@ -205,6 +295,13 @@ void ActionModel::save(const std::string& path) const
     w.putString(labels[i]);
     w.putString(persons[i]);
   }
+  w.put<std::uint64_t>(linear.classes().size());
+  for (const auto& c : linear.classes())
+    w.putString(c);
+  w.putMatrix(linear.weights());
+  w.putMatrix(linear.bias());
+  w.putMatrix(linear.mean());
+  w.putMatrix(linear.scale());
   const std::string& payload = w.bytes();
   const std::string tmp = path + ".tmp";
   {
@@ -241,7 +338,7 @@ ActionModel ActionModel::load(const std::string& path)
   if (std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
     header.fail("not an action_flow model (bad magic)");
   const auto version = header.get<std::uint32_t>();
-  if (version != kFormatVersion)
+  if (version != kFormatVersion && version != 1)
     header.fail("format version " + std::to_string(version) + ", this build reads version " +
                 std::to_string(kFormatVersion) + "; retrain the model");
   const auto size = header.get<std::uint64_t>();
@@ -256,7 +353,7 @@ ActionModel ActionModel::load(const std::string& path)
 
   Reader r(payload, path);
   ActionModel m;
-  m.params = getParams(r);
+  m.params = getParams(r, version);
   Eigen::MatrixXf mean = r.getMatrix(), basis = r.getMatrix(), variances = r.getMatrix();
   if (basis.size() > 0)
   {
@@ -273,14 +370,27 @@ ActionModel ActionModel::load(const std::string& path)
     m.labels.push_back(r.getString());
     m.persons.push_back(r.getString());
   }
+  if (version >= 2)
+    readLinear(r, m);
   if (!r.done())
     r.fail("unexpected data after the last record");
   if (m.params.use_pca == m.pca.empty())
     r.fail("use_pca does not agree with the stored PCA basis");
-  const Eigen::Index per_frame = m.pca.empty() ? 3 * m.params.grid.cells() : m.pca.outputSize();
-  if (m.descriptors.rows() > 0 && m.descriptors.cols() != per_frame * m.params.frames)
+  if (m.params.recognizer == Recognizer::Paper && !m.pca.empty() && m.pca.inputSize() != 3 * m.params.grid.cells())
+    r.fail("PCA basis of input length " + std::to_string(m.pca.inputSize()) + " does not fit frame descriptors of " +
+           std::to_string(3 * m.params.grid.cells()));
+  if (m.descriptors.rows() > 0 && m.descriptors.cols() != m.sequenceLength())
     r.fail("descriptor length " + std::to_string(m.descriptors.cols()) + " does not match its parameters (" +
-           std::to_string(per_frame * m.params.frames) + ")");
+           std::to_string(m.sequenceLength()) + ")");
+  const bool wants_linear =
+      m.params.recognizer == Recognizer::PostureFlow && m.params.pyramid.classifier == PyramidClassifier::Linear;
+  if (wants_linear != !m.linear.empty())
+    r.fail(wants_linear ? "the linear classifier's weights are missing" : "holds linear weights it does not use");
+  if (wants_linear && m.linear.dimension() != m.sequenceLength())
+    r.fail("linear classifier of input length " + std::to_string(m.linear.dimension()) + ", sequences have " +
+           std::to_string(m.sequenceLength()));
+  if (!wants_linear && m.descriptors.rows() == 0)
+    r.fail("holds no training sequence");
   return m;
 }
 
@@ -291,9 +401,32 @@ void ActionModel::checkCompatible(const RecognitionParams& runtime, const std::s
     throw ModelError("model file '" + path + "' was made with other parameters: " + diff);
 }
 
-ActionClassifier ActionModel::classifier() const
+Eigen::Index ActionModel::sequenceLength() const
 {
-  return ActionClassifier(descriptors, labels, params.neighbours);
+  if (params.recognizer == Recognizer::Paper)
+    return static_cast<Eigen::Index>(pca.empty() ? 3 * params.grid.cells() : pca.outputSize()) * params.frames;
+  const PostureFlowDescriptor layout(params.grid);
+  const Eigen::VectorXf probe = selectFrameFeatures(Eigen::VectorXf::Zero(layout.size()), layout, params.pyramid);
+  return probe.size() * pyramidParts(params.pyramid.temporal_levels);
+}
+
+Eigen::VectorXf ActionModel::sequence(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps) const
+{
+  if (params.recognizer == Recognizer::Paper)
+    return SequenceDescriptor(params.frames).compute(frames, stamps, pca);
+  const PostureFlowDescriptor layout(params.grid);
+  std::vector<Eigen::VectorXf> selected;
+  selected.reserve(frames.size());
+  for (const auto& f : frames)
+    selected.push_back(selectFrameFeatures(f, layout, params.pyramid));
+  return temporalPyramid(selected, stamps, params.pyramid.temporal_levels);
+}
+
+SequenceClassifier ActionModel::classifier() const
+{
+  if (params.recognizer == Recognizer::PostureFlow && params.pyramid.classifier == PyramidClassifier::Linear)
+    return SequenceClassifier(linear);
+  return SequenceClassifier(ActionClassifier(descriptors, labels, params.neighbours));
 }
 
 }  // namespace action_flow

@@ -56,18 +56,25 @@ GridDescriptor::GridDescriptor(const GridParams& params) : params_(params)
     throw std::invalid_argument("GridDescriptor: grid sizes must be positive");
 }
 
-int GridDescriptor::cellOf(const Eigen::Vector3f& local, float person_height) const
+bool GridDescriptor::normalised(const Eigen::Vector3f& local, float person_height, Eigen::Vector3f& uvw) const
 {
   const float scale = person_height / params_.reference_height;
   // Normalised to [0,1) along each axis: x and z centred on the person, y from the ground up.
-  const float u = local.x() / (params_.width * scale) + 0.5f;
-  const float v = local.y() / (params_.height * scale);
-  const float w = local.z() / (params_.depth * scale) + 0.5f;
-  if (!(u >= 0.0f && u < 1.0f && v >= 0.0f && v < 1.0f && w >= 0.0f && w < 1.0f))
+  uvw.x() = local.x() / (params_.width * scale) + 0.5f;
+  uvw.y() = local.y() / (params_.height * scale);
+  uvw.z() = local.z() / (params_.depth * scale) + 0.5f;
+  return uvw.x() >= 0.0f && uvw.x() < 1.0f && uvw.y() >= 0.0f && uvw.y() < 1.0f && uvw.z() >= 0.0f &&
+         uvw.z() < 1.0f;
+}
+
+int GridDescriptor::cellOf(const Eigen::Vector3f& local, float person_height) const
+{
+  Eigen::Vector3f uvw;
+  if (!normalised(local, person_height, uvw))
     return -1;
-  const int ix = std::min(static_cast<int>(u * params_.parts_x), params_.parts_x - 1);
-  const int iy = std::min(static_cast<int>(v * params_.parts_y), params_.parts_y - 1);
-  const int iz = std::min(static_cast<int>(w * params_.parts_z), params_.parts_z - 1);
+  const int ix = std::min(static_cast<int>(uvw.x() * params_.parts_x), params_.parts_x - 1);
+  const int iy = std::min(static_cast<int>(uvw.y() * params_.parts_y), params_.parts_y - 1);
+  const int iz = std::min(static_cast<int>(uvw.z() * params_.parts_z), params_.parts_z - 1);
   return ix + params_.parts_x * (iy + params_.parts_y * iz);
 }
 

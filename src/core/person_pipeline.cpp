@@ -67,7 +67,7 @@ PersonPipeline::PersonPipeline(const std::vector<RecognitionParams>& variants)
     }
     else if (!v.flow.reject_outliers && shared[f].reject_outliers)
       needs_unfiltered[f] = true;
-    variants_.push_back({ f, !v.flow.reject_outliers, GridDescriptor(v.grid), SequenceDescriptor(v.frames), {}, {} });
+    variants_.push_back({ f, !v.flow.reject_outliers, v, SequenceDescriptor(v.frames), {}, {} });
   }
   for (std::size_t f = 0; f < shared.size(); ++f)
     flows_.emplace_back(shared[f], 1.0, needs_unfiltered[f]);
@@ -91,7 +91,7 @@ void PersonPipeline::add(const Cloud& cloud, double stamp, const PersonFrame& wh
     {
       // A track that does not reject outliers has its flow in result (unfiltered stays empty).
       const bool from_unfiltered = v.unfiltered && flows_[v.flow].estimator().params().reject_outliers;
-      v.descriptors.push_back(v.grid.compute(from_unfiltered ? step.unfiltered : step.result.flow, where));
+      v.descriptors.push_back(frameDescriptor(v.params, cloud, from_unfiltered ? step.unfiltered : step.result.flow, where));
       v.stamps.push_back(stamp);
     }
   }

@@ -1,8 +1,11 @@
 #include <action_flow/evaluation.h>
 
+#include <action_flow/posture_flow.h>
 #include <action_flow/sequence_descriptor.h>
 
 #include <algorithm>
+#include <atomic>
+#include <thread>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -285,14 +288,85 @@ void framesOf(const LabelledSample& s, int length, std::vector<Eigen::VectorXf>&
     stamps.push_back(0.0);
   }
 }
+
+// The sequence descriptor of a sample mirrored left to right (posture_flow only).
+Eigen::VectorXf mirroredSequenceOf(const LabelledSample& sample, const ActionModel& model)
+{
+  std::vector<Eigen::VectorXf> frames;
+  std::vector<double> stamps;
+  framesOf(sample, frameDescriptorLength(model.params), frames, stamps);
+  const PostureFlowDescriptor layout(model.params.grid);
+  for (auto& f : frames)
+    f = layout.mirrored(f);
+  return model.sequence(frames, stamps);
+}
+
+double foldAccuracy(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
+                    const std::vector<std::string>& persons, const std::vector<std::string>& held_out, double c)
+{
+  std::vector<Eigen::Index> train, test;
+  for (std::size_t i = 0; i < labels.size(); ++i)
+    (std::find(held_out.begin(), held_out.end(), persons[i]) != held_out.end() ? test : train)
+        .push_back(static_cast<Eigen::Index>(i));
+  std::vector<std::string> train_labels;
+  for (Eigen::Index i : train)
+    train_labels.push_back(labels[i]);
+  if (test.empty() || uniqueSorted(train_labels).size() < 2)
+    return -1.0;
+  const LinearClassifier classifier = LinearClassifier::train(x(train, Eigen::all), train_labels, c);
+  int right = 0;
+  for (Eigen::Index i : test)
+    right += classifier.classify(x.row(i).transpose()).label == labels[i];
+  return static_cast<double>(right) / static_cast<double>(test.size());
+}
 }  // namespace
+
+const std::vector<double>& linearCandidates()
+{
+  static const std::vector<double> c = { 0.003, 0.01, 0.03, 0.1 };
+  return c;
+}
+
+double chooseLinearC(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
+                     const std::vector<std::string>& persons, int inner_folds)
+{
+  const std::vector<std::string> people = uniqueSorted(persons);
+  const int k = std::min<int>(inner_folds, static_cast<int>(people.size()));
+  if (k < 2)
+    return 0.1;  // one person: nothing to cross-validate on
+  double best_c = linearCandidates().front(), best = -1.0;
+  for (double c : linearCandidates())
+  {
+    double sum = 0.0;
+    int used = 0;
+    for (int f = 0; f < k; ++f)
+    {
+      std::vector<std::string> held_out;
+      for (std::size_t p = f; p < people.size(); p += k)
+        held_out.push_back(people[p]);
+      const double a = foldAccuracy(x, labels, persons, held_out, c);
+      if (a >= 0.0)
+      {
+        sum += a;
+        ++used;
+      }
+    }
+    const double mean = used > 0 ? sum / used : 0.0;
+    if (mean > best + 1e-9)  // ties keep the smaller C (the stronger regularisation)
+    {
+      best = mean;
+      best_c = c;
+    }
+  }
+  return best_c;
+}
 
 Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& model)
 {
   std::vector<Eigen::VectorXf> frames;
   std::vector<double> stamps;
-  framesOf(sample, 3 * model.params.grid.cells(), frames, stamps);
-  return SequenceDescriptor(model.params.frames).compute(frames, stamps, model.pca);
+  framesOf(sample, frameDescriptorLength(model.params), frames, stamps);
+  return model.sequence(frames, stamps);
 }
 
 Pca fitPca(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows, double variance)
@@ -324,22 +398,33 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
     throw std::invalid_argument("trainModel: no training samples");
   ActionModel model;
   model.params = params;
-  if (params.use_pca)
+  if (params.recognizer == Recognizer::Paper && params.use_pca)
     model.pca = fitted ? *fitted : fitPca(samples, rows, params.pca_variance);
+  const bool mirror = params.recognizer == Recognizer::PostureFlow && params.pyramid.mirror;
+  const std::size_t copies = mirror ? 2 : 1;
+  model.descriptors.resize(static_cast<Eigen::Index>(rows.size() * copies), model.sequenceLength());
   for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t m = 0; m < copies; ++m)
+    {
+      const LabelledSample& s = samples[rows[i]];
+      model.descriptors.row(static_cast<Eigen::Index>(i * copies + m)) =
+          (m == 0 ? sequenceOf(s, model) : mirroredSequenceOf(s, model)).transpose();
+      model.labels.push_back(s.action);
+      model.persons.push_back(s.person);
+    }
+  if (params.recognizer == Recognizer::PostureFlow && params.pyramid.classifier == PyramidClassifier::Linear)
   {
-    const Eigen::VectorXf d = sequenceOf(samples[rows[i]], model);
-    if (i == 0)
-      model.descriptors.resize(static_cast<Eigen::Index>(rows.size()), d.size());
-    model.descriptors.row(static_cast<Eigen::Index>(i)) = d.transpose();
-    model.labels.push_back(samples[rows[i]].action);
-    model.persons.push_back(samples[rows[i]].person);
+    double& c = model.params.pyramid.c;
+    if (!(c > 0.0))  // chosen inside the training people: they are all this function sees
+      c = chooseLinearC(model.descriptors, model.labels, model.persons);
+    model.linear = LinearClassifier::train(model.descriptors, model.labels, c);
   }
   return model;
 }
 
 Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
-                   const RecognitionParams& params, std::vector<double>* fold_accuracy, std::vector<Pca>* fold_pcas)
+                   const RecognitionParams& params, std::vector<double>* fold_accuracy, std::vector<Pca>* fold_pcas,
+                   int jobs)
 {
   std::vector<std::string> actions;
   for (const auto& s : samples)
@@ -352,24 +437,51 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
     for (const auto& fold : folds)
       fold_pcas->push_back(fold.test.empty() ? Pca() : fitPca(samples, fold.train, params.pca_variance));
   }
-  for (std::size_t f = 0; f < folds.size(); ++f)
-  {
-    const Fold& fold = folds[f];
+  for (const Fold& fold : folds)
     for (std::size_t t : fold.test)
       for (std::size_t r : fold.train)
         if (samples[t].person == samples[r].person)
           throw std::invalid_argument("runFolds: fold '" + fold.name + "' trains on person " + samples[r].person +
                                       " whom it tests");
-    if (fold.test.empty())
-      continue;
-    const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr);
-    const ActionClassifier classifier = model.classifier();
-    Confusion mine(all.labels);
-    for (std::size_t t : fold.test)
+  // Folds are independent: up to `jobs` of them train at once; their answers are merged in fold order.
+  std::vector<std::vector<std::string>> predicted(folds.size());
+  std::vector<std::string> errors(folds.size());
+  std::atomic<std::size_t> next{ 0 };
+  const auto worker = [&]() {
+    for (std::size_t f = next++; f < folds.size(); f = next++)
     {
-      const std::string predicted = classifier.classify(sequenceOf(samples[t], model)).label;
-      all.add(samples[t].action, predicted);
-      mine.add(samples[t].action, predicted);
+      const Fold& fold = folds[f];
+      if (fold.test.empty())
+        continue;
+      try
+      {
+        const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr);
+        const SequenceClassifier classifier = model.classifier();
+        for (std::size_t t : fold.test)
+          predicted[f].push_back(classifier.classify(sequenceOf(samples[t], model)).label);
+      }
+      catch (const std::exception& e)
+      {
+        errors[f] = e.what();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, jobs); ++j)
+    pool.emplace_back(worker);
+  for (auto& t : pool)
+    t.join();
+  for (std::size_t f = 0; f < folds.size(); ++f)
+  {
+    if (!errors[f].empty())
+      throw std::runtime_error("fold '" + folds[f].name + "': " + errors[f]);
+    if (folds[f].test.empty())
+      continue;
+    Confusion mine(all.labels);
+    for (std::size_t i = 0; i < folds[f].test.size(); ++i)
+    {
+      all.add(samples[folds[f].test[i]].action, predicted[f][i]);
+      mine.add(samples[folds[f].test[i]].action, predicted[f][i]);
     }
     if (fold_accuracy)
       fold_accuracy->push_back(mine.accuracy());

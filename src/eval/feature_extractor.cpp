@@ -54,7 +54,7 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
   {
     const PersonPipeline& p = *best->pipeline;
     out[v].stamps = p.stamps(v);
-    out[v].descriptors.resize(static_cast<Eigen::Index>(p.descriptors(v).size()), 3 * variants[v].grid.cells());
+    out[v].descriptors.resize(static_cast<Eigen::Index>(p.descriptors(v).size()), frameDescriptorLength(variants[v]));
     for (std::size_t r = 0; r < p.descriptors(v).size(); ++r)
       out[v].descriptors.row(static_cast<Eigen::Index>(r)) = p.descriptors(v)[r].transpose();
   }

@@ -1,5 +1,5 @@
-// Classifier stage: sequences of frame descriptors per track, nearest neighbour against ~model
-// (core SequenceDescriptor + ActionModel/ActionClassifier), labels on `labels`.
+// Classifier stage: sequences of frame descriptors per track, classified by ~model (core
+// ActionModel: its sequence descriptor and classifier, whichever recognizer it holds), labels on `labels`.
 #include <action_flow/ActionLabel.h>
 #include <action_flow/Classify.h>
 #include <action_flow/action_model.h>
@@ -85,11 +85,11 @@ class ClassifierNodelet : public LazyNodelet
       ActionModel model = ActionModel::load(path);
       model.checkCompatible(readRecognitionParams(pnh), path);
       classifier_.emplace(model.classifier());
-      sequence_.emplace(model.params.frames);
-      pca_ = model.pca;
       min_frames_ = std::max(min_frames_, 1);
-      NODELET_INFO("model '%s': %zu training sequences of %zu actions, F=%d, %s", path.c_str(), classifier_->size(),
-                   classifier_->classes().size(), model.params.frames, online_ ? "online" : "segmented");
+      NODELET_INFO("model '%s': recognizer %s, %zu training sequences of %zu actions, %s", path.c_str(),
+                   toString(model.params.recognizer).c_str(), model.labels.size(), classifier_->classes().size(),
+                   online_ ? "online" : "segmented");
+      model_.emplace(std::move(model));
     }
     catch (const std::exception& e)
     {
@@ -209,7 +209,7 @@ class ClassifierNodelet : public LazyNodelet
     {
       const std::vector<Eigen::VectorXf> descriptors(s.descriptors.begin(), s.descriptors.end());
       const std::vector<double> stamps(s.stamps.begin(), s.stamps.end());
-      return classifier_->classify(sequence_->compute(descriptors, stamps, pca_));
+      return classifier_->classify(model_->sequence(descriptors, stamps));
     }
     catch (const std::exception& e)
     {
@@ -226,11 +226,12 @@ class ClassifierNodelet : public LazyNodelet
     label->label = c.label;
     label->distance = c.distance;
     label->margin = c.margin;
+    label->confidence = c.confidence;
     label->window_start = ros::Time(s.stamps.front());
     label->window_end = ros::Time(s.stamps.back());
     label->mode = mode;
-    NODELET_INFO("track %u: %s (distance %.3f, margin %.3f, %zu frames)", id, c.label.c_str(), c.distance, c.margin,
-                 s.descriptors.size());
+    NODELET_INFO("track %u: %s (confidence %.2f, margin %.3f, %zu frames)", id, c.label.c_str(), c.confidence,
+                 c.margin, s.descriptors.size());
     labels_pub_.publish(label);
     return *label;
   }
@@ -345,9 +346,8 @@ class ClassifierNodelet : public LazyNodelet
   double arrow_scale_ = 0.1;
   int max_arrows_ = 150;
 
-  std::optional<ActionClassifier> classifier_;
-  std::optional<SequenceDescriptor> sequence_;
-  Pca pca_;
+  std::optional<ActionModel> model_;
+  std::optional<SequenceClassifier> classifier_;
   std::string model_error_;
 
   std::mutex mutex_;

@@ -1,5 +1,6 @@
-// Descriptor stage: each person's flow summed (or averaged) in a grid around them (core GridDescriptor).
-#include <action_flow/grid_descriptor.h>
+// Descriptor stage: each person's frame descriptor in a grid around them: posture and flow
+// (core PostureFlowDescriptor, the default) or the paper's SUMFLOW / MEANFLOW (core GridDescriptor).
+#include <action_flow/action_model.h>
 #include <action_flow/ros/lazy_nodelet.h>
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
@@ -10,7 +11,8 @@ namespace action_flow
 {
 /**
  * Subscribes `flow` (PeopleFlow), publishes `descriptors` (FrameDescriptors). Parameters (private):
- * the grid/ part and `descriptor` (sumflow|meanflow) of the recognition parameters. Stateless.
+ * `recognizer` (posture_flow|paper), the grid/ part and, for the paper's, `descriptor`
+ * (sumflow|meanflow) of the recognition parameters. Stateless.
  */
 class DescriptorNodelet : public LazyNodelet
 {
@@ -18,12 +20,13 @@ class DescriptorNodelet : public LazyNodelet
   {
     try
     {
-      grid_ = std::make_unique<GridDescriptor>(readRecognitionParams(getPrivateNodeHandle()).grid);
+      params_ = readRecognitionParams(getPrivateNodeHandle());
+      frameDescriptorLength(params_);  // checks the grid
     }
     catch (const std::exception& e)
     {
-      NODELET_ERROR("bad grid parameters (%s): using the defaults", e.what());
-      grid_ = std::make_unique<GridDescriptor>();
+      NODELET_ERROR("bad descriptor parameters (%s): using the defaults", e.what());
+      params_ = defaultRecognitionParams();
     }
     setSubscribe([this] { return getNodeHandle().subscribe("flow", 10, &DescriptorNodelet::onFlow, this); });
     pub_ = advertiseLazy<FrameDescriptors>("descriptors", 10);
@@ -47,7 +50,8 @@ class DescriptorNodelet : public LazyNodelet
       d.head.z = head.z();
       if (person.status == PeopleFlow::kFlow && person.flow)
       {
-        const Eigen::VectorXf v = grid_->compute(*person.flow, person.info.frame);
+        const Eigen::VectorXf v =
+            frameDescriptor(params_, person.cloud ? *person.cloud : Cloud(), *person.flow, person.info.frame);
         d.values.assign(v.data(), v.data() + v.size());
       }
       out->descriptors.push_back(std::move(d));
@@ -55,7 +59,7 @@ class DescriptorNodelet : public LazyNodelet
     pub_.publish(out);
   }
 
-  std::unique_ptr<GridDescriptor> grid_;
+  RecognitionParams params_;
   ros::Publisher pub_;
 };
 

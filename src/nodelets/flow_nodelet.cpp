@@ -72,6 +72,7 @@ class FlowNodelet : public LazyNodelet
         NODELET_WARN_THROTTLE(5, "track %u has no cloud: skipped", person.info.id);
         continue;
       }
+      p.cloud = person.cloud;
       Track& track = tracks_[person.info.id];
       if (!track.flow)
         track.flow = std::make_unique<FlowTrack>(params_, max_gap_);

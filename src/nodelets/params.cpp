@@ -18,7 +18,10 @@ void readFloat(const ros::NodeHandle& nh, const std::string& name, float& value)
 
 RecognitionParams readRecognitionParams(const ros::NodeHandle& nh)
 {
-  RecognitionParams p;
+  RecognitionParams p = defaultRecognitionParams();
+  std::string recognizer = toString(p.recognizer);
+  nh.param("recognizer", recognizer, recognizer);
+  p.recognizer = recognizerFromString(recognizer);
   readFloat(nh, "voxel_size", p.voxel_size);
   nh.param("flow/k", p.flow.k, p.flow.k);
   nh.param("flow/reciprocal", p.flow.reciprocal, p.flow.reciprocal);

@@ -122,6 +122,11 @@ PersonFlowArray toMessage(const PeopleFlow& in)
         f.vectors.insert(f.vectors.end(), v.velocity.data(), v.velocity.data() + 3);
       }
     }
+    if (p.cloud)
+    {
+      pcl::toROSMsg(*p.cloud, f.cloud);
+      f.cloud.header = in.header;
+    }
     out.people.push_back(std::move(f));
   }
   return out;
@@ -144,6 +149,12 @@ void fromMessage(const PersonFlowArray& in, PeopleFlow& out)
       flow->push_back({ Eigen::Vector3f(f.vectors[i], f.vectors[i + 1], f.vectors[i + 2]),
                         Eigen::Vector3f(f.vectors[i + 3], f.vectors[i + 4], f.vectors[i + 5]) });
     p.flow = flow;
+    if (!f.cloud.data.empty())
+    {
+      auto cloud = boost::make_shared<Cloud>();
+      pcl::fromROSMsg(f.cloud, *cloud);
+      p.cloud = cloud;
+    }
     out.people.push_back(std::move(p));
   }
 }

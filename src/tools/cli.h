@@ -67,14 +67,55 @@ private:
 /** Options naming the method's parameters. */
 inline const std::set<std::string>& methodOptions()
 {
-  static const std::set<std::string> o = { "descriptor", "frames", "pca-variance", "neighbours", "k" };
+  static const std::set<std::string> o = { "recognizer", "descriptor", "frames", "pca-variance", "neighbours", "k",
+                                            "classifier", "c", "temporal-levels" };
   return o;
 }
 
-/** The method's parameters from the options (defaults: the paper's). */
+/** Flags naming the method's parameters. */
+inline const std::set<std::string>& methodFlags()
+{
+  static const std::set<std::string> o = { "pca", "no-outlier-rejection", "no-posture", "no-direction-histogram",
+                                           "single-level", "no-mirror" };
+  return o;
+}
+
+/** Usage lines of the method's options. */
+inline const char* methodUsage()
+{
+  return "  --recognizer posture_flow|paper posture_flow (default): posture and flow, temporal pyramid, linear\n"
+         "                                  classifier; paper: Munaro et al.'s SUMFLOW/MEANFLOW, F frames, k-NN\n"
+         "  posture_flow:\n"
+         "  --classifier linear|nn          logistic regression (default) or 1-NN\n"
+         "  --c C                           the linear classifier's C (default: chosen by cross-validation\n"
+         "                                  over the training people)\n"
+         "  --temporal-levels N             pyramid levels, 1 = whole sequence only (default 3)\n"
+         "  --no-posture, --no-direction-histogram, --single-level, --no-mirror\n"
+         "                                  switch off one part (for ablations)\n"
+         "  paper:\n"
+         "  --descriptor sumflow|meanflow   frame descriptor (default sumflow)\n"
+         "  --frames F                      frames per sequence descriptor (default 30)\n"
+         "  --pca [--pca-variance 0.99]     project frames on a PCA basis keeping that variance\n"
+         "  --neighbours K                  k of the k-NN classifier (default 1)\n"
+         "  both:\n"
+         "  --k K                           flow: nearest neighbours in XYZ (default 50)\n"
+         "  --no-outlier-rejection          skip the flow's speed and isolation rules\n";
+}
+
+/** The method's parameters from the options (defaults: the default recognizer, posture_flow). */
 inline RecognitionParams methodParams(const Args& a)
 {
-  RecognitionParams p;
+  RecognitionParams p = defaultRecognitionParams();
+  p.recognizer = recognizerFromString(a.get("recognizer", toString(p.recognizer)));
+  p.pyramid.classifier = pyramidClassifierFromString(a.get("classifier", toString(p.pyramid.classifier)));
+  p.pyramid.c = a.number("c", p.pyramid.c);
+  p.pyramid.temporal_levels = static_cast<int>(a.number("temporal-levels", p.pyramid.temporal_levels));
+  p.pyramid.posture = !a.has("no-posture");
+  p.pyramid.direction_histogram = !a.has("no-direction-histogram");
+  p.pyramid.coarse_to_fine = !a.has("single-level");
+  p.pyramid.mirror = !a.has("no-mirror");
+  if (p.pyramid.c < 0 || p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
+    throw std::invalid_argument("--c must be >= 0 and --temporal-levels in 1..4");
   p.grid.aggregation = aggregationFromString(a.get("descriptor", "sumflow"));
   p.frames = static_cast<int>(a.number("frames", p.frames));
   p.use_pca = a.has("pca");

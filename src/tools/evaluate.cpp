@@ -1,9 +1,12 @@
 // evaluate: runs a protocol (leave-one-person-out, or MSR Action3D's cross-subject) over the
-// paper's variants and writes a report folder: report.json, confusion matrices (CSV and PNG), the
-// accuracy against frames per sequence (Figure 8 of the paper) and an ablation table.
+// default recognizer, its ablations, the paper's variants and (for MSR Action3D) a joint-position
+// baseline, and writes a report folder: report.json, confusion matrices (CSV and PNG), the paper's
+// accuracy against frames per sequence (its Figure 8) and an ablation table.
 #include "cli.h"
 #include "extraction.h"
 #include "sample_sources.h"
+
+#include <action_flow/synth/skeleton.h>
 
 #include <ros/package.h>
 
@@ -26,10 +29,15 @@ const char* kUsage =
     "  --protocol lopo|cross-subject   leave-one-person-out (default) or train on --train-persons\n"
     "  --train-persons a,b,...         cross-subject training people (default s01,s03,s05,s07,s09)\n"
     "  --actions a,b,...               evaluate on these actions only (e.g. an MSR subset)\n"
-    "  --variants v1,v2,...            of meanflow, sumflow_raw, sumflow, sumflow_pca (default: all)\n"
-    "  --frames F                      frames per sequence (default 30)\n"
-    "  --sweep N                       accuracy for 1..N frames, with and without PCA (default 40; 0 = none)\n"
-    "  --jobs N, --cache DIR           as for train\n";
+    "  --variants v1,v2,...            of posture_flow, posture_flow_no_posture, posture_flow_no_histogram,\n"
+    "                                  posture_flow_single_level, posture_flow_no_pyramid, posture_flow_nn,\n"
+    "                                  posture_flow_no_mirror, meanflow, sumflow_raw, sumflow, sumflow_pca,\n"
+    "                                  joints (MSR Action3D only) (default: all)\n"
+    "  --frames F                      the paper's frames per sequence (default 30)\n"
+    "  --sweep N                       the paper's accuracy for 1..N frames, with and without PCA (default 40;\n"
+    "                                  0 = none)\n"
+    "  --jobs N, --cache DIR           as for train\n"
+    "  --no-plots                      write no pictures\n";
 
 struct Variant
 {
@@ -37,6 +45,92 @@ struct Variant
   RecognitionParams params;
   std::size_t extraction;  // which extracted descriptor set it reads
 };
+
+// The joint-position baseline's frames of one MSR Action3D skeleton file: per tracked frame the 20
+// joints relative to the hip centre and their velocities, both divided by the body's size (the
+// mean spine length, shoulder centre to hip centre), at the files' 15 fps.
+SampleFrames jointFrames(const std::string& skeleton_file)
+{
+  const synth::MsrSkeletonFile file = synth::parseMsrSkeletonFile(skeleton_file);
+  constexpr int kHipCentre = 6, kShoulderCentre = 2;
+  double size = 0.0;
+  int n = 0;
+  for (std::size_t f = 0; f < file.frames.size(); ++f)
+    if (file.tracked[f])
+    {
+      size += (file.frames[f][kShoulderCentre] - file.frames[f][kHipCentre]).norm();
+      ++n;
+    }
+  if (n < 2 || !(size > 0.0))
+    throw std::runtime_error(skeleton_file + ": fewer than 2 tracked frames, or a collapsed skeleton");
+  const float scale = static_cast<float>(n / size);
+  SampleFrames out;
+  std::vector<Eigen::VectorXf> rows;
+  Eigen::VectorXf previous;
+  for (std::size_t f = 0; f < file.frames.size(); ++f)
+  {
+    if (!file.tracked[f])
+      continue;
+    Eigen::VectorXf pos(60);
+    for (int j = 0; j < 20; ++j)
+      pos.segment<3>(3 * j) = (file.frames[f][j] - file.frames[f][kHipCentre]) * scale;
+    Eigen::VectorXf row(120);
+    row << pos, (previous.size() ? Eigen::VectorXf((pos - previous) * 15.0f) : Eigen::VectorXf::Zero(60));
+    previous = pos;
+    rows.push_back(row);
+    out.stamps.push_back(static_cast<double>(f) / 15.0);
+  }
+  out.descriptors.resize(static_cast<Eigen::Index>(rows.size()), 120);
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    out.descriptors.row(static_cast<Eigen::Index>(r)) = rows[r].transpose();
+  return out;
+}
+
+// The joint baseline over the folds: temporal pyramid of the joint frames, linear classifier with
+// C chosen inside each fold's training people.
+Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector<Fold>& folds,
+                        std::vector<double>& fold_accuracy)
+{
+  std::vector<std::string> labels, persons;
+  Eigen::MatrixXf x;
+  for (std::size_t i = 0; i < samples.size(); ++i)
+  {
+    if (samples[i].skeleton_file.empty())
+      throw std::invalid_argument("the joints baseline needs MSR Action3D samples (--synth msr)");
+    const SampleFrames f = jointFrames(samples[i].skeleton_file);
+    std::vector<Eigen::VectorXf> frames;
+    for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r)
+      frames.push_back(f.descriptors.row(r).transpose());
+    const Eigen::VectorXf d = temporalPyramid(frames, f.stamps, 3);
+    if (i == 0)
+      x.resize(static_cast<Eigen::Index>(samples.size()), d.size());
+    x.row(static_cast<Eigen::Index>(i)) = d.transpose();
+    labels.push_back(samples[i].action);
+    persons.push_back(samples[i].person);
+  }
+  Confusion all(uniqueSorted(labels));
+  for (const Fold& fold : folds)
+  {
+    std::vector<Eigen::Index> train(fold.train.begin(), fold.train.end());
+    std::vector<std::string> train_labels, train_persons;
+    for (auto r : train)
+    {
+      train_labels.push_back(labels[r]);
+      train_persons.push_back(persons[r]);
+    }
+    const Eigen::MatrixXf xt = x(train, Eigen::all);
+    const LinearClassifier c = LinearClassifier::train(xt, train_labels, chooseLinearC(xt, train_labels, train_persons));
+    Confusion mine(all.labels);
+    for (std::size_t t : fold.test)
+    {
+      const std::string predicted = c.classify(x.row(static_cast<Eigen::Index>(t)).transpose()).label;
+      all.add(labels[t], predicted);
+      mine.add(labels[t], predicted);
+    }
+    fold_accuracy.push_back(mine.accuracy());
+  }
+  return all;
+}
 
 void writeAtomically(const std::string& path, const std::string& text)
 {
@@ -93,10 +187,13 @@ int main(int argc, char** argv)
                                      "sweep" };
     valued.insert(methodOptions().begin(), methodOptions().end());
     addSampleOptions(valued);
-    const Args args(argc, argv, { "help", "no-plots" }, valued);
+    std::set<std::string> flags = methodFlags();
+    flags.insert({ "help", "no-plots" });
+    const Args args(argc, argv, flags, valued);
     if (args.has("help") || !args.has("output"))
     {
       std::fputs(kUsage, args.has("help") ? stdout : stderr);
+      std::fputs(methodUsage(), args.has("help") ? stdout : stderr);
       return args.has("help") ? 0 : 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -106,21 +203,48 @@ int main(int argc, char** argv)
     if (samples.empty())
       throw std::invalid_argument("no samples to evaluate");
 
-    // The paper's variants (Figure 7): three sets of frame descriptors cover all four.
+    // The paper's variants (Figure 7): three sets of frame descriptors cover all four; the default
+    // recognizer and its ablations share a fourth. All four share one flow matching per frame.
     RecognitionParams sum = base, mean = base, raw = base;
+    sum.recognizer = mean.recognizer = raw.recognizer = Recognizer::Paper;
     sum.grid.aggregation = raw.grid.aggregation = FlowAggregation::Sum;
     mean.grid.aggregation = FlowAggregation::Mean;
     sum.use_pca = mean.use_pca = raw.use_pca = false;
     raw.flow.reject_outliers = false;
     RecognitionParams pca = sum;
     pca.use_pca = true;
-    const std::vector<RecognitionParams> extractions = { sum, mean, raw };
-    std::vector<Variant> all = { { "meanflow", "MEANFLOW", mean, 1 },
-                                 { "sumflow_raw", "SUMFLOW without outlier rejection", raw, 2 },
-                                 { "sumflow", "SUMFLOW", sum, 0 },
-                                 { "sumflow_pca", "SUMFLOW with PCA", pca, 0 } };
+    RecognitionParams pf = base;
+    pf.recognizer = Recognizer::PostureFlow;
+    const auto ablation = [&](auto change) {
+      RecognitionParams p = pf;
+      change(p.pyramid);
+      return p;
+    };
+    const std::vector<RecognitionParams> extractions = { sum, mean, raw, pf };
+    std::vector<Variant> all = {
+      { "posture_flow", "posture_flow (default)", pf, 3 },
+      { "posture_flow_no_posture", "posture_flow without posture", ablation([](PyramidParams& p) { p.posture = false; }), 3 },
+      { "posture_flow_no_histogram", "posture_flow, signed flow sums instead of direction bins",
+        ablation([](PyramidParams& p) { p.direction_histogram = false; }), 3 },
+      { "posture_flow_single_level", "posture_flow, 4x4x4 grid only",
+        ablation([](PyramidParams& p) { p.coarse_to_fine = false; }), 3 },
+      { "posture_flow_no_pyramid", "posture_flow, whole-sequence mean only",
+        ablation([](PyramidParams& p) { p.temporal_levels = 1; }), 3 },
+      { "posture_flow_nn", "posture_flow, 1-NN instead of the linear classifier",
+        ablation([](PyramidParams& p) { p.classifier = PyramidClassifier::Nearest; }), 3 },
+      { "posture_flow_no_mirror", "posture_flow without mirrored training copies",
+        ablation([](PyramidParams& p) { p.mirror = false; }), 3 },
+      { "meanflow", "paper: MEANFLOW", mean, 1 },
+      { "sumflow_raw", "paper: SUMFLOW without outlier rejection", raw, 2 },
+      { "sumflow", "paper: SUMFLOW", sum, 0 },
+      { "sumflow_pca", "paper: SUMFLOW with PCA", pca, 0 },
+      { "joints", "joint-position baseline (skeleton files, not clouds)", pf, 0 } };
     std::vector<Variant> variants;
-    const auto wanted = splitList(args.get("variants", "meanflow,sumflow_raw,sumflow,sumflow_pca"));
+    std::string names;
+    for (const auto& v : all)
+      if (v.name != "joints" || args.get("synth") == "msr")
+        names += (names.empty() ? "" : ",") + v.name;
+    const auto wanted = splitList(args.get("variants", names));
     for (const auto& w : wanted)
     {
       const auto it = std::find_if(all.begin(), all.end(), [&](const Variant& v) { return v.name == w; });
@@ -175,7 +299,10 @@ int main(int argc, char** argv)
     for (const auto& v : variants)
     {
       std::vector<double> fold_acc;
-      const Confusion c = runFolds(labelled(v.extraction), folds, v.params, &fold_acc, &fold_pcas);
+      const auto v0 = std::chrono::steady_clock::now();
+      const Confusion c = v.name == "joints" ? jointBaseline(samples, folds, fold_acc)
+                                             : runFolds(labelled(v.extraction), folds, v.params, &fold_acc, &fold_pcas,
+                                                        static_cast<int>(args.number("jobs", 2)));
       double mean_fold = 0.0;
       for (double a : fold_acc)
         mean_fold += a / fold_acc.size();
@@ -185,11 +312,12 @@ int main(int argc, char** argv)
                           { "mean_fold_accuracy", mean_fold },
                           { "fold_accuracy", fold_acc },
                           { "confusion", confusionJson(c) },
+                          { "seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - v0).count() },
                           { "pca_components", nullptr } });
       if (v.params.use_pca && !fold_pcas.empty())
         results.back()["pca_components"] = fold_pcas.front().outputSize();
       writeAtomically(dir + "/confusion_" + v.name + ".csv", confusionCsv(c));
-      std::printf("%-36s accuracy %5.1f%%  (mean over folds %5.1f%%)\n", v.title.c_str(), 100 * c.accuracy(),
+      std::printf("%-58s accuracy %5.1f%%  (mean over folds %5.1f%%)\n", v.title.c_str(), 100 * c.accuracy(),
                   100 * mean_fold);
     }
     report["variants"] = results;
@@ -205,9 +333,9 @@ int main(int argc, char** argv)
         curve["frames"].push_back(f);
         curve["sumflow"].push_back(runFolds(labelled(0), folds, a).accuracy());
         curve["sumflow_pca"].push_back(runFolds(labelled(0), folds, b, nullptr, &fold_pcas).accuracy());
-        std::fprintf(stderr, "\r  frames sweep: %d/%d", f, sweep);
+        if (f % 10 == 0 || f == sweep)
+          std::fprintf(stderr, "  paper's frames sweep: %d/%d\n", f, sweep);
       }
-      std::fprintf(stderr, "\n");
       report["frames_sweep"] = curve;
     }
     const auto t2 = std::chrono::steady_clock::now();

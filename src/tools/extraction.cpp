@@ -9,6 +9,7 @@
 #include <sstream>
 #include <sys/stat.h>
 #include <thread>
+#include <unistd.h>
 
 namespace action_flow
 {
@@ -30,10 +31,14 @@ void makeDirs(const std::string& path)
       ::mkdir(path.substr(0, i).c_str(), 0755);
 }
 
-std::string hex(std::size_t h)
+// A stable hash for cache names (std::hash may change between builds): 64-bit FNV-1a.
+std::string hex(const std::string& text)
 {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text)
+    h = (h ^ c) * 1099511628211ull;
   char buf[17];
-  std::snprintf(buf, sizeof(buf), "%016zx", h);
+  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(h));
   return buf;
 }
 }  // namespace
@@ -58,15 +63,19 @@ std::vector<std::string> splitList(const std::string& s)
 std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t)
 {
   std::ostringstream s;
-  s << "v1 vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
+  // Every parameter that shapes a frame descriptor: the recognizer's kind, flow, grid and tracker.
+  s << "v2 " << toString(p.recognizer) << " vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
     << " ms" << p.flow.min_speed << " is" << p.flow.isolation_speed << " nr" << p.flow.neighbour_radius << " g"
     << p.grid.parts_x << p.grid.parts_y << p.grid.parts_z << " " << p.grid.width << " " << p.grid.height << " "
     << p.grid.depth << " " << p.grid.reference_height << " " << toString(p.grid.aggregation) << " | t"
     << t.detection_voxel_size << " " << t.person_voxel_size << " " << t.max_range << " " << t.min_height << " "
     << t.max_height << " " << t.min_width << " " << t.max_width << " " << t.ground_tolerance << " "
     << t.cluster_tolerance << " " << t.min_points << " " << t.fixed_ground << " " << t.ground.transpose() << " "
-    << t.hog_classifier_file << " " << t.gate << " " << t.lost_after << " " << t.confirm_after;
-  return toString(p.grid.aggregation) + (p.flow.reject_outliers ? "" : "_raw") + "_" + hex(std::hash<std::string>()(s.str()));
+    << t.hog_classifier_file << " " << t.gate << " " << t.lost_after << " " << t.confirm_after << " "
+    << t.sampling_factor << " " << t.up_hint.transpose() << " " << t.ground_max_angle << " " << t.ground_min_area << " "
+    << t.assume_ground_below_points << " " << t.min_head_distance << " " << t.hog_min_confidence;
+  const std::string kind = p.recognizer == Recognizer::Paper ? toString(p.grid.aggregation) : toString(p.recognizer);
+  return kind + (p.flow.reject_outliers ? "" : "_raw") + "_" + hex(s.str());
 }
 
 std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& samples,
@@ -81,13 +90,14 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
   }
   std::vector<std::vector<SampleFrames>> out(variants.size(), std::vector<SampleFrames>(samples.size()));
   const auto cachePath = [&](std::size_t v, std::size_t s) {
-    return dirs[v] + "/" + samples[s].key + "_" + hex(std::hash<std::string>()(samples[s].fingerprint)) + ".frames";
+    return dirs[v] + "/" + samples[s].key + "_" + hex(samples[s].fingerprint) + ".frames";
   };
 
   std::atomic<std::size_t> next{ 0 }, done{ 0 }, cached{ 0 };
   std::mutex print;
   std::string error;
   const auto start = std::chrono::steady_clock::now();
+  const bool terminal = ::isatty(STDERR_FILENO) != 0;
   const auto worker = [&]() {
     for (std::size_t s = next++; s < samples.size() && !g_stop; s = next++)
     {
@@ -120,8 +130,13 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
       const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       const double eta = secs / n * (samples.size() - n);
       std::lock_guard<std::mutex> lock(print);
-      std::fprintf(stderr, "\r  descriptors: %zu/%zu samples (%zu cached)  %.0f s elapsed, about %.0f s left   ", n,
-                   samples.size(), cached.load(), secs, eta);
+      // On a terminal one line redrawn; in a log a whole line every 5 % (and at the end).
+      if (terminal)
+        std::fprintf(stderr, "\r  descriptors: %zu/%zu samples (%zu cached)  %.0f s elapsed, about %.0f s left   ", n,
+                     samples.size(), cached.load(), secs, eta);
+      else if (n == samples.size() || n % std::max<std::size_t>(1, samples.size() / 20) == 0)
+        std::fprintf(stderr, "  descriptors: %zu/%zu samples (%zu cached)  %.0f s elapsed, about %.0f s left\n", n,
+                     samples.size(), cached.load(), secs, eta);
     }
   };
   std::vector<std::thread> pool;
@@ -129,7 +144,8 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
     pool.emplace_back(worker);
   for (auto& t : pool)
     t.join();
-  std::fprintf(stderr, "\n");
+  if (terminal)
+    std::fprintf(stderr, "\n");
   if (!error.empty())
     throw std::runtime_error(error);
   if (g_stop)

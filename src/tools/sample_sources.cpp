@@ -333,6 +333,7 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
     s.person = spec.person;
     s.action = spec.action;
     s.repetition = spec.repetition;
+    s.skeleton_file = spec.skeleton_file;
     s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" +
                     std::to_string(spec.seed) + ":" + std::to_string(max_frames);
     s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };

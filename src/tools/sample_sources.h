@@ -21,6 +21,7 @@ struct SampleRef
   std::string person, action;
   int repetition = 0;
   std::string fingerprint;  // changes when the sample's content would (file size+mtime, renderer version)
+  std::string skeleton_file;  // MSR Action3D samples: the skeleton file they were rendered from
   std::function<std::unique_ptr<FrameSource>()> open;
 };
 

@@ -1,6 +1,6 @@
 // train: a dataset (bags listed in an index, or the virtual Kinect rendering in-process) in, a
-// model file out. Same code path as the live pipeline: tracker -> flow -> grid descriptor ->
-// sequence descriptor (-> PCA).
+// model file out. Same code path as the live pipeline: tracker -> flow -> frame descriptor ->
+// sequence descriptor -> classifier.
 #include "cli.h"
 #include "extraction.h"
 #include "sample_sources.h"
@@ -15,11 +15,6 @@ namespace
 {
 const char* kUsage =
     "usage: train --output MODEL (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
-    "  --descriptor sumflow|meanflow   frame descriptor (default sumflow)\n"
-    "  --frames F                      frames per sequence descriptor (default 30)\n"
-    "  --pca [--pca-variance 0.99]     project frames on a PCA basis keeping that variance\n"
-    "  --no-outlier-rejection          skip the flow's speed and isolation rules\n"
-    "  --neighbours K                  k of the k-NN classifier stored in the model (default 1)\n"
     "  --exclude-person P              leave one person out of the training set\n"
     "  --actions a,b,...               train on these actions only\n"
     "  --jobs N                        samples processed in parallel (default 2)\n"
@@ -33,10 +28,13 @@ int main(int argc, char** argv)
     std::set<std::string> valued = { "output", "index", "jobs", "cache", "exclude-person" };
     valued.insert(methodOptions().begin(), methodOptions().end());
     addSampleOptions(valued);
-    const Args args(argc, argv, { "pca", "no-outlier-rejection", "help" }, valued);
+    std::set<std::string> flags = methodFlags();
+    flags.insert("help");
+    const Args args(argc, argv, flags, valued);
     if (args.has("help") || !args.has("output"))
     {
       std::fputs(kUsage, args.has("help") ? stdout : stderr);
+      std::fputs(methodUsage(), args.has("help") ? stdout : stderr);
       return args.has("help") ? 0 : 2;
     }
     const RecognitionParams params = methodParams(args);
@@ -64,9 +62,13 @@ int main(int argc, char** argv)
     }
     const ActionModel model = trainModel(labelled, rows, params);
     model.save(args.get("output"));
-    std::printf("train: wrote %s: %zu sequences, %zu actions, descriptor length %ld%s\n", args.get("output").c_str(),
-                model.labels.size(), model.classifier().classes().size(), static_cast<long>(model.descriptors.cols()),
+    std::printf("train: wrote %s: recognizer %s, %zu sequences, %zu actions, descriptor length %ld%s\n",
+                args.get("output").c_str(), toString(model.params.recognizer).c_str(), model.labels.size(),
+                model.classifier().classes().size(), static_cast<long>(model.descriptors.cols()),
                 model.pca.empty() ? "" : (" (PCA " + std::to_string(model.pca.outputSize()) + " per frame)").c_str());
+    if (!model.linear.empty())
+      std::printf("train: linear classifier, C = %g (%s)\n", model.params.pyramid.c,
+                  params.pyramid.c > 0 ? "given" : "chosen by cross-validation over the training people");
     return 0;
   }
   catch (const std::exception& e)

@@ -1,8 +1,10 @@
 // Dataset index, protocols, experiments and the descriptor cache.
 #include <action_flow/evaluation.h>
+#include <action_flow/posture_flow.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -193,4 +195,90 @@ TEST(SampleCache, RoundTripsAndRejectsDamage)
   std::ofstream(path, std::ios::app) << "junk";
   EXPECT_THROW(loadSampleFrames(path, g), DatasetError);
   std::remove(path.c_str());
+}
+
+namespace
+{
+// Posture-and-flow frames of one sample: action a puts the body's points and an upward motion in
+// its own finest cell (x = 1, y = a: distinct from the others also when mirrored), plus noise.
+SampleFrames postureFramesFor(int action, unsigned seed, int n = 12)
+{
+  const PostureFlowDescriptor layout;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> noise(0.0f, 0.01f);
+  SampleFrames f;
+  f.descriptors.resize(n, layout.size());
+  for (int r = 0; r < n; ++r)
+  {
+    for (int c = 0; c < layout.size(); ++c)
+      f.descriptors(r, c) = noise(rng);
+    const int cell = layout.offset(2) + kPostureFlowValuesPerCell * (1 + 4 * action);
+    f.descriptors(r, cell) += 0.5f;
+    f.descriptors(r, cell + 3) += r % 2 ? 1.0f : 0.2f;
+    f.stamps.push_back(r / 30.0);
+  }
+  return f;
+}
+
+struct PostureSet
+{
+  std::vector<SampleFrames> frames;
+  std::vector<LabelledSample> samples;
+  std::vector<std::string> persons;
+};
+
+PostureSet postureSet(int people)
+{
+  PostureSet s;
+  const char* actions[] = { "wave", "kick", "punch" };
+  for (int p = 0; p < people; ++p)
+    for (int a = 0; a < 3; ++a)
+      s.frames.push_back(postureFramesFor(a, 100 * p + a));
+  for (int p = 0; p < people; ++p)
+    for (int a = 0; a < 3; ++a)
+    {
+      s.samples.push_back({ "p" + std::to_string(p), actions[a], &s.frames[3 * p + a] });
+      s.persons.push_back(s.samples.back().person);
+    }
+  return s;
+}
+}  // namespace
+
+TEST(Experiments, DefaultRecognizerRecognisesSeparableActions)
+{
+  const PostureSet s = postureSet(4);
+  const RecognitionParams params = defaultRecognitionParams();
+  std::vector<double> per_fold;
+  const Confusion c = runFolds(s.samples, leaveOnePersonOut(s.persons), params, &per_fold, nullptr, 2);
+  EXPECT_EQ(c.total(), 12);
+  EXPECT_DOUBLE_EQ(c.accuracy(), 1.0);
+  EXPECT_EQ(per_fold.size(), 4u);
+
+  const ActionModel m = trainModel(s.samples, { 0, 1, 2, 3, 4, 5 }, params);
+  EXPECT_EQ(m.descriptors.rows(), 12) << "6 samples, each mirrored too";
+  EXPECT_FALSE(m.linear.empty());
+  EXPECT_GT(m.params.pyramid.c, 0.0) << "the chosen C is recorded in the model";
+  RecognitionParams nn = params;
+  nn.pyramid.classifier = PyramidClassifier::Nearest;
+  nn.pyramid.mirror = false;
+  EXPECT_DOUBLE_EQ(runFolds(s.samples, leaveOnePersonOut(s.persons), nn).accuracy(), 1.0);
+  EXPECT_TRUE(trainModel(s.samples, { 0, 1, 2 }, nn).linear.empty());
+}
+
+TEST(Experiments, ModelSelectionNeverSeesATestPerson)
+{
+  PostureSet s = postureSet(5);
+  const Fold fold = leaveOnePersonOut(s.persons)[0];  // tests p0
+  const ActionModel before = trainModel(s.samples, fold.train, defaultRecognitionParams());
+  // Whatever the test person did, the chosen C and the weights stay the same.
+  for (std::size_t t : fold.test)
+    s.frames[t].descriptors = s.frames[t].descriptors.reverse() * 7.0f;
+  const ActionModel after = trainModel(s.samples, fold.train, defaultRecognitionParams());
+  EXPECT_EQ(before.params.pyramid.c, after.params.pyramid.c);
+  EXPECT_EQ(before.linear.weights(), after.linear.weights());
+  for (const auto& p : before.persons)
+    EXPECT_NE(p, "p0");
+  // The candidates are tried: C is one of them.
+  EXPECT_NE(std::find(linearCandidates().begin(), linearCandidates().end(), before.params.pyramid.c),
+            linearCandidates().end());
 }

@@ -70,12 +70,22 @@ TEST(Tools, TinyDatasetTrainsAndEvaluatesEndToEnd)
   const std::string out = tempDir("report"), cache = tempDir("cache");
   const std::string model = out + "/tiny.model";
 
-  Result r = run(kBin + "/train --index '" + index + "' --output '" + model + "' --frames 10 --cache '" + cache + "'");
+  // The default recognizer: 9 samples, each also mirrored, and a linear classifier.
+  Result r = run(kBin + "/train --index '" + index + "' --output '" + model + "' --cache '" + cache + "'");
   ASSERT_EQ(r.status, 0) << r.output;
   const action_flow::ActionModel m = action_flow::ActionModel::load(model);
-  EXPECT_EQ(m.labels.size(), 9u);
-  EXPECT_EQ(m.params.frames, 10);
+  EXPECT_EQ(m.params.recognizer, action_flow::Recognizer::PostureFlow);
+  EXPECT_EQ(m.labels.size(), 18u);
+  EXPECT_FALSE(m.linear.empty());
   EXPECT_GT(m.descriptors.norm(), 0.0f) << "the actors moved: some flow must have been found";
+  // The paper's recognizer, as before.
+  r = run(kBin + "/train --index '" + index + "' --output '" + model + "' --recognizer paper --frames 10 --cache '" +
+          cache + "'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const action_flow::ActionModel paper = action_flow::ActionModel::load(model);
+  EXPECT_EQ(paper.params.recognizer, action_flow::Recognizer::Paper);
+  EXPECT_EQ(paper.labels.size(), 9u);
+  EXPECT_EQ(paper.params.frames, 10);
 
   r = run(kBin + "/evaluate --index '" + index + "' --output '" + out + "' --frames 10 --sweep 4 --cache '" + cache +
           "'");

@@ -1,6 +1,7 @@
 // Writes the tiny models the classifier rostests load, through the core's ActionModel::save:
 //   <dir>/two_actions.afm   "raise": every frame descriptor is e_0; "push": every frame is e_1
 //   <dir>/corrupt.afm       the same file with one byte of its payload flipped
+//   <dir>/posture_flow.afm  the default recognizer, "still" (no flow) against "moving" (flow everywhere)
 // A query whose frames are all e_0 is at distance 0 from "raise" and sqrt(2 F) from "push".
 #include <action_flow/action_model.h>
 
@@ -35,6 +36,16 @@ int main(int argc, char** argv)
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     bytes[bytes.size() - 10] ^= 0x5a;
     std::ofstream(dir + "/corrupt.afm", std::ios::binary) << bytes;
+
+    action_flow::ActionModel pf;
+    pf.params = action_flow::defaultRecognitionParams();
+    pf.params.pyramid.c = 1.0;
+    pf.descriptors = Eigen::MatrixXf::Zero(2, pf.sequenceLength());
+    pf.descriptors.row(1).setConstant(1.0f);
+    pf.labels = { "still", "moving" };
+    pf.persons = { "a", "a" };
+    pf.linear = action_flow::LinearClassifier::train(pf.descriptors, pf.labels, pf.params.pyramid.c);
+    pf.save(dir + "/posture_flow.afm");
   }
   catch (const std::exception& e)
   {

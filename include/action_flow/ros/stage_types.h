@@ -80,6 +80,7 @@ struct PeopleFlow
     std::uint8_t status = kFirst;
     double dt = 0.0;
     boost::shared_ptr<const FlowVectors> flow;  ///< empty unless status is kFlow
+    boost::shared_ptr<const Cloud> cloud;       ///< the person's cloud of this frame (the tracker's, not copied)
   };
   std_msgs::Header header;
   std::vector<Person> people;

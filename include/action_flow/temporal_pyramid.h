@@ -1,0 +1,70 @@
+/**
+ * @file temporal_pyramid.h
+ * @brief The default recognizer's sequence descriptor: which parts of the posture-and-flow frame
+ *        descriptor it uses, and a temporal pyramid of their means that does not depend on the
+ *        number of frames or on how fast the action was performed.
+ */
+#pragma once
+
+#include <action_flow/posture_flow.h>
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+/** @brief The classifier that follows the pyramid. */
+enum class PyramidClassifier
+{
+  Linear,  ///< multinomial-calibrated one-vs-rest logistic regression (liblinear), a probability per label
+  Nearest  ///< 1-NN by Euclidean distance (ActionClassifier), kept for comparison
+};
+
+std::string toString(PyramidClassifier c);
+/** @throws std::invalid_argument for a name other than "linear" or "nn". */
+PyramidClassifier pyramidClassifierFromString(const std::string& name);
+
+/**
+ * @brief Every switch of the default recognizer after the frame descriptor. Each part can be
+ *        turned off for an ablation; none of them changes the frame descriptors, so the
+ *        ablations share one extraction.
+ */
+struct PyramidParams
+{
+  bool posture = true;              ///< use the cells' shares of the body's points
+  bool direction_histogram = true;  ///< flow as 6 sign bins per cell; false: the 3 signed sums
+  bool coarse_to_fine = true;       ///< cells at 1, 2 and 4 parts per axis; false: 4 only
+  int temporal_levels = 3;          ///< pyramid levels: 1 = whole sequence, 2 = + halves, 3 = + quarters
+  PyramidClassifier classifier = PyramidClassifier::Linear;
+  /** Regularisation of the linear classifier; 0 = chosen by cross-validation inside the training people. */
+  double c = 0.0;
+  bool mirror = true;               ///< training adds every sample mirrored left to right (label unchanged)
+};
+
+/**
+ * @brief The part of a full posture-and-flow frame descriptor that @p params use.
+ * @throws std::invalid_argument if @p full does not have @p layout's length
+ */
+Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFlowDescriptor& layout,
+                                    const PyramidParams& params);
+
+/**
+ * @brief The temporal pyramid: level l cuts the sequence's time span [t_first, t_last] into 2^l
+ *        equal parts; each part gives the mean of the frames whose stamps fall in it (the frame
+ *        nearest its middle when none does). Parts are concatenated, whole sequence first, then
+ *        halves, then quarters; each value v becomes sign(v) sqrt(|v|) (a power normalisation that
+ *        keeps large motions from swamping small ones).
+ * @param frames frame feature vectors, all of one length, in time order
+ * @param stamps their stamps (non-decreasing)
+ * @param levels 1..4
+ * @throws std::invalid_argument on no frames, sizes that differ, unsorted or non-finite stamps,
+ *         or levels outside 1..4
+ */
+Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps,
+                                int levels);
+
+/** @brief Number of parts of a pyramid of @p levels levels: 2^levels - 1. */
+int pyramidParts(int levels);
+
+}  // namespace action_flow

@@ -1,0 +1,124 @@
+#include <action_flow/temporal_pyramid.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace action_flow
+{
+std::string toString(PyramidClassifier c)
+{
+  return c == PyramidClassifier::Linear ? "linear" : "nn";
+}
+
+PyramidClassifier pyramidClassifierFromString(const std::string& name)
+{
+  if (name == "linear")
+    return PyramidClassifier::Linear;
+  if (name == "nn")
+    return PyramidClassifier::Nearest;
+  throw std::invalid_argument("unknown classifier '" + name + "' (expected linear or nn)");
+}
+
+Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFlowDescriptor& layout,
+                                    const PyramidParams& params)
+{
+  if (full.size() != layout.size())
+    throw std::invalid_argument("selectFrameFeatures: frame descriptor of length " + std::to_string(full.size()) +
+                                ", expected " + std::to_string(layout.size()));
+  const int per_cell = (params.posture ? 1 : 0) + (params.direction_histogram ? 6 : 3);
+  const int first = params.coarse_to_fine ? 0 : PostureFlowDescriptor::kLevels - 1;
+  int cells = 0;
+  for (int l = first; l < PostureFlowDescriptor::kLevels; ++l)
+    cells += layout.cells(l);
+  Eigen::VectorXf out(cells * per_cell);
+  int at = 0;
+  for (int l = first; l < PostureFlowDescriptor::kLevels; ++l)
+    for (int c = 0; c < layout.cells(l); ++c)
+    {
+      const auto cell = full.segment<kPostureFlowValuesPerCell>(layout.offset(l) + kPostureFlowValuesPerCell * c);
+      if (params.posture)
+        out[at++] = cell[0];
+      for (int a = 0; a < 3; ++a)
+        if (params.direction_histogram)
+        {
+          out[at++] = cell[1 + 2 * a];
+          out[at++] = cell[2 + 2 * a];
+        }
+        else
+          out[at++] = cell[1 + 2 * a] - cell[2 + 2 * a];
+    }
+  return out;
+}
+
+int pyramidParts(int levels)
+{
+  return (1 << levels) - 1;
+}
+
+Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps,
+                                int levels)
+{
+  if (frames.empty() || frames.size() != stamps.size())
+    throw std::invalid_argument("temporalPyramid: needs as many stamps as frames, and at least one frame");
+  if (levels < 1 || levels > 4)
+    throw std::invalid_argument("temporalPyramid: levels must be 1..4");
+  const Eigen::Index length = frames.front().size();
+  for (std::size_t i = 0; i < frames.size(); ++i)
+  {
+    if (frames[i].size() != length)
+      throw std::invalid_argument("temporalPyramid: frames differ in length");
+    if (!std::isfinite(stamps[i]) || (i > 0 && stamps[i] < stamps[i - 1]))
+      throw std::invalid_argument("temporalPyramid: stamps must be finite and non-decreasing");
+  }
+  const double t0 = stamps.front(), span = stamps.back() - stamps.front();
+  // Where frame i lies in the sequence, in [0,1]: by time, or by position when all stamps are equal.
+  const auto position = [&](std::size_t i) {
+    if (span > 0.0)
+      return (stamps[i] - t0) / span;
+    return frames.size() > 1 ? static_cast<double>(i) / static_cast<double>(frames.size() - 1) : 0.0;
+  };
+  Eigen::VectorXf out(length * pyramidParts(levels));
+  Eigen::Index at = 0;
+  for (int l = 0; l < levels; ++l)
+  {
+    const int parts = 1 << l;
+    for (int p = 0; p < parts; ++p)
+    {
+      // Part p covers positions [p/parts, (p+1)/parts), the last one closed.
+      Eigen::VectorXf sum = Eigen::VectorXf::Zero(length);
+      int n = 0;
+      for (std::size_t i = 0; i < frames.size(); ++i)
+      {
+        const int in = std::min(parts - 1, static_cast<int>(position(i) * parts));
+        if (in == p)
+        {
+          sum += frames[i];
+          ++n;
+        }
+      }
+      if (n == 0)  // a part no frame falls in: the frame nearest its middle
+      {
+        const double middle = (p + 0.5) / parts;
+        std::size_t best = 0;
+        double best_d = 1e300;
+        for (std::size_t i = 0; i < frames.size(); ++i)
+        {
+          if (std::abs(position(i) - middle) < best_d)
+          {
+            best_d = std::abs(position(i) - middle);
+            best = i;
+          }
+        }
+        sum = frames[best];
+        n = 1;
+      }
+      out.segment(at, length) = (sum / static_cast<float>(n)).unaryExpr([](float v) {
+        return std::copysign(std::sqrt(std::abs(v)), v);
+      });
+      at += length;
+    }
+  }
+  return out;
+}
+
+}  // namespace action_flow

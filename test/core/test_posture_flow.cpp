@@ -1,0 +1,275 @@
+// Known-answer tests of the default recognizer: the posture-and-flow frame descriptor, the part
+// selection for ablations, the temporal pyramid, the linear classifier and its model file.
+#include <action_flow/action_model.h>
+#include <action_flow/posture_flow.h>
+#include <action_flow/temporal_pyramid.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+using namespace action_flow;
+
+namespace
+{
+// Centre of cell (ix, iy, iz) of a level with n parts per axis, for a 1.75 m person at the origin
+// with identity axes: the grid is 2.0 x 2.3 x 1.8 m, x and z centred, y from the ground up.
+Eigen::Vector3f centreOf(int ix, int iy, int iz, int n)
+{
+  return Eigen::Vector3f(-1.0f + 2.0f / n * (ix + 0.5f), 2.3f / n * (iy + 0.5f), -0.9f + 1.8f / n * (iz + 0.5f));
+}
+
+Cloud pointsAt(const std::vector<Eigen::Vector3f>& where)
+{
+  Cloud c;
+  for (const auto& w : where)
+  {
+    PointT p;
+    p.x = w.x();
+    p.y = w.y();
+    p.z = w.z();
+    c.push_back(p);
+  }
+  return c;
+}
+
+// Index of the first value of cell (ix, iy, iz) at level l of the default layout.
+int at(const PostureFlowDescriptor& d, int level, int ix, int iy, int iz)
+{
+  const int n = d.parts(level)[0];
+  return d.offset(level) + kPostureFlowValuesPerCell * (ix + n * (iy + n * iz));
+}
+}  // namespace
+
+TEST(PostureFlowDescriptor, LayoutIsOneTwoFourPartsPerAxis)
+{
+  const PostureFlowDescriptor d;
+  EXPECT_EQ(d.parts(0)[0], 1);
+  EXPECT_EQ(d.parts(1)[1], 2);
+  EXPECT_EQ(d.parts(2)[2], 4);
+  EXPECT_EQ(d.offset(1), 7);
+  EXPECT_EQ(d.offset(2), 7 + 56);
+  EXPECT_EQ(d.size(), 7 * (1 + 8 + 64));
+}
+
+TEST(PostureFlowDescriptor, HandBuiltPersonGivesKnownPostureAndFlow)
+{
+  const PostureFlowDescriptor d;
+  const PersonFrame person;  // origin 0, identity axes, 1.75 m
+  // Three points in finest cell (0,0,0), one in (3,3,3); one outside and one NaN are ignored.
+  const Cloud cloud = pointsAt({ centreOf(0, 0, 0, 4), centreOf(0, 0, 0, 4) + Eigen::Vector3f(0.01f, 0, 0),
+                                 centreOf(0, 0, 0, 4) - Eigen::Vector3f(0, 0.01f, 0), centreOf(3, 3, 3, 4),
+                                 Eigen::Vector3f(5, 0, 0), Eigen::Vector3f(NAN, 0, 0) });
+  const FlowVectors flow = { { centreOf(0, 0, 0, 4), { 1.0f, -2.0f, 0.0f } },
+                             { centreOf(3, 3, 3, 4), { 0.0f, 0.0f, 0.5f } },
+                             { Eigen::Vector3f(5, 0, 0), { 9, 9, 9 } } };
+  const Eigen::VectorXf v = d.compute(cloud, flow, person);
+  ASSERT_EQ(v.size(), d.size());
+  // Posture: shares of the 4 points inside; flow: per-direction sums divided by 4.
+  Eigen::VectorXf expected = Eigen::VectorXf::Zero(d.size());
+  const auto cell = [&](int index, float share, std::array<float, 6> bins) {
+    expected[index] += share;
+    for (int b = 0; b < 6; ++b)
+      expected[index + 1 + b] += bins[b];
+  };
+  cell(at(d, 0, 0, 0, 0), 1.0f, { 0.25f, 0, 0, 0.5f, 0.125f, 0 });  // whole body
+  cell(at(d, 1, 0, 0, 0), 0.75f, { 0.25f, 0, 0, 0.5f, 0, 0 });
+  cell(at(d, 1, 1, 1, 1), 0.25f, { 0, 0, 0, 0, 0.125f, 0 });
+  cell(at(d, 2, 0, 0, 0), 0.75f, { 0.25f, 0, 0, 0.5f, 0, 0 });
+  cell(at(d, 2, 3, 3, 3), 0.25f, { 0, 0, 0, 0, 0.125f, 0 });
+  for (int i = 0; i < d.size(); ++i)
+    EXPECT_NEAR(v[i], expected[i], 1e-6f) << "value " << i;
+
+  // The person's point count does not matter, only shares: doubling every point gives the same.
+  Cloud twice = cloud;
+  twice += cloud;
+  FlowVectors flow_twice = flow;
+  flow_twice.insert(flow_twice.end(), flow.begin(), flow.end());
+  EXPECT_LT((d.compute(twice, flow_twice, person) - v).norm(), 1e-6f);
+
+  // A cloud with nothing inside the grid gives all zeros; so does a frame without height.
+  EXPECT_EQ(d.compute(pointsAt({ Eigen::Vector3f(5, 0, 0) }), flow, person).norm(), 0.0f);
+  PersonFrame flat;
+  flat.height = 0.0f;
+  EXPECT_EQ(d.compute(cloud, flow, flat).norm(), 0.0f);
+}
+
+TEST(PostureFlowDescriptor, MirroredEqualsTheMirroredPerson)
+{
+  const PostureFlowDescriptor d;
+  const PersonFrame person;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> x(-0.95f, 0.95f), y(0.05f, 2.2f), z(-0.85f, 0.85f), v(-2.0f, 2.0f);
+  std::vector<Eigen::Vector3f> points, mirrored_points;
+  FlowVectors flow, mirrored_flow;
+  for (int i = 0; i < 200; ++i)
+  {
+    const Eigen::Vector3f p(x(rng), y(rng), z(rng)), vel(v(rng), v(rng), v(rng));
+    points.push_back(p);
+    mirrored_points.push_back(Eigen::Vector3f(-p.x(), p.y(), p.z()));
+    flow.push_back({ p, vel });
+    mirrored_flow.push_back({ mirrored_points.back(), Eigen::Vector3f(-vel.x(), vel.y(), vel.z()) });
+  }
+  const Eigen::VectorXf a = d.compute(pointsAt(points), flow, person);
+  const Eigen::VectorXf b = d.compute(pointsAt(mirrored_points), mirrored_flow, person);
+  EXPECT_GT(a.norm(), 0.1f);
+  EXPECT_GT((a - b).norm(), 0.01f) << "the test person must not be symmetric already";
+  EXPECT_LT((d.mirrored(a) - b).norm(), 1e-5f);
+  EXPECT_LT((d.mirrored(d.mirrored(a)) - a).norm(), 1e-7f);
+  EXPECT_THROW(d.mirrored(Eigen::VectorXf::Zero(3)), std::invalid_argument);
+}
+
+TEST(TemporalPyramid, SelectsTheParts)
+{
+  const PostureFlowDescriptor layout;
+  Eigen::VectorXf full = Eigen::VectorXf::Zero(layout.size());
+  full.segment<7>(at(layout, 0, 0, 0, 0)) << 1, 2, 3, 4, 5, 6, 7;
+  full.segment<7>(at(layout, 2, 1, 0, 0)) << 0.5f, 1, 0, 0, 3, 0, 0;
+  PyramidParams all;
+  EXPECT_EQ(selectFrameFeatures(full, layout, all).size(), 511);
+  EXPECT_EQ(selectFrameFeatures(full, layout, all).head<7>(), full.head<7>());
+  PyramidParams no_posture;
+  no_posture.posture = false;
+  EXPECT_EQ(selectFrameFeatures(full, layout, no_posture).size(), 6 * 73);
+  EXPECT_EQ(selectFrameFeatures(full, layout, no_posture)[0], 2.0f);
+  PyramidParams sums;
+  sums.direction_histogram = false;
+  const Eigen::VectorXf s = selectFrameFeatures(full, layout, sums);
+  ASSERT_EQ(s.size(), 4 * 73);
+  EXPECT_EQ(s.head<4>(), Eigen::Vector4f(1, -1, -1, -1));  // +x - -x, +y - -y, +z - -z
+  PyramidParams fine;
+  fine.coarse_to_fine = false;
+  const Eigen::VectorXf f = selectFrameFeatures(full, layout, fine);
+  ASSERT_EQ(f.size(), 7 * 64);
+  EXPECT_EQ(f.segment<7>(7), full.segment<7>(at(layout, 2, 1, 0, 0)));
+  EXPECT_THROW(selectFrameFeatures(Eigen::VectorXf::Zero(10), layout, all), std::invalid_argument);
+}
+
+TEST(TemporalPyramid, MeansOfWholeHalvesAndQuarters)
+{
+  std::vector<Eigen::VectorXf> frames;
+  for (float v : { 1.0f, 2.0f, 3.0f, 4.0f })
+    frames.push_back(Eigen::VectorXf::Constant(1, v));
+  const std::vector<double> stamps = { 10.0, 11.0, 12.0, 13.0 };
+  const Eigen::VectorXf p = temporalPyramid(frames, stamps, 3);
+  ASSERT_EQ(p.size(), 7);
+  const float expected[] = { 2.5f, 1.5f, 3.5f, 1, 2, 3, 4 };  // then sign(v) sqrt(|v|)
+  for (int i = 0; i < 7; ++i)
+    EXPECT_NEAR(p[i], std::sqrt(expected[i]), 1e-6f) << "part " << i;
+
+  // Performed twice as fast (half the time span, same poses): the same descriptor.
+  const std::vector<double> fast = { 10.0, 10.5, 11.0, 11.5 };
+  EXPECT_LT((temporalPyramid(frames, fast, 3) - p).norm(), 1e-6f);
+  // A single frame fills every part; negative values keep their sign.
+  const Eigen::VectorXf one = temporalPyramid({ Eigen::VectorXf::Constant(1, -4.0f) }, { 0.0 }, 2);
+  EXPECT_EQ(one, Eigen::Vector3f(-2, -2, -2));
+  EXPECT_THROW(temporalPyramid({}, {}, 3), std::invalid_argument);
+  EXPECT_THROW(temporalPyramid(frames, { 3, 2, 1, 0 }, 3), std::invalid_argument);
+  EXPECT_THROW(temporalPyramid(frames, stamps, 0), std::invalid_argument);
+}
+
+namespace
+{
+// Two clouds of points around (+1, 0...) and (-1, 0...) in 5 dimensions, plus a third class at the origin.
+void threeClasses(Eigen::MatrixXf& x, std::vector<std::string>& labels, std::vector<std::string>& persons, int n)
+{
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 0.2f);
+  x.resize(3 * n, 5);
+  for (int i = 0; i < 3 * n; ++i)
+  {
+    const int c = i % 3;
+    for (int j = 0; j < 5; ++j)
+      x(i, j) = noise(rng) + (j == 0 ? (c == 0 ? 1.0f : c == 1 ? -1.0f : 0.0f) : j == 1 ? (c == 2 ? 1.0f : 0.0f) : 0.0f);
+    labels.push_back(c == 0 ? "right" : c == 1 ? "left" : "up");
+    persons.push_back("p" + std::to_string(i % 4));
+  }
+}
+}  // namespace
+
+TEST(LinearClassifier, LearnsSeparableClassesWithProbabilities)
+{
+  Eigen::MatrixXf x;
+  std::vector<std::string> labels, persons;
+  threeClasses(x, labels, persons, 40);
+  const LinearClassifier c = LinearClassifier::train(x, labels, 1.0);
+  EXPECT_EQ(c.classes(), (std::vector<std::string>{ "left", "right", "up" }));
+  int right = 0;
+  for (int i = 0; i < x.rows(); ++i)
+    right += c.classify(x.row(i).transpose()).label == labels[i];
+  EXPECT_GE(right, x.rows() - 2);
+  Eigen::VectorXf q(5);
+  q << 1.5f, 0, 0, 0, 0;
+  const Classification r = c.classify(q);
+  EXPECT_EQ(r.label, "right");
+  EXPECT_GT(r.confidence, 0.8f);
+  EXPECT_NEAR(c.probabilities(q).sum(), 1.0f, 1e-5f);
+  Eigen::VectorXf p = c.probabilities(q);
+  std::sort(p.data(), p.data() + p.size());
+  EXPECT_NEAR(r.margin, p[2] - p[1], 1e-6f);
+  // Halfway between two classes the classifier is unsure.
+  q << 0.5f, 0.5f, 0, 0, 0;
+  EXPECT_LT(c.classify(q).confidence, r.confidence);
+
+  // Two labels (liblinear stores one weight vector then) work the same way.
+  const LinearClassifier two = LinearClassifier::train(x.topRows(2), { "right", "left" }, 1.0);
+  EXPECT_EQ(two.classify(x.row(0).transpose()).label, "right");
+  EXPECT_EQ(two.classify(x.row(1).transpose()).label, "left");
+
+  EXPECT_THROW(LinearClassifier::train(x, labels, 0.0), std::invalid_argument);
+  EXPECT_THROW(LinearClassifier::train(x.topRows(3), { "a", "a", "a" }, 1.0), std::invalid_argument);
+  EXPECT_THROW(c.classify(Eigen::VectorXf::Zero(4)), std::invalid_argument);
+}
+
+TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
+{
+  Eigen::MatrixXf x;
+  std::vector<std::string> labels, persons;
+  threeClasses(x, labels, persons, 10);
+  ActionModel m;
+  m.params = defaultRecognitionParams();
+  m.params.pyramid.c = 0.5;
+  const Eigen::Index length = m.sequenceLength();
+  EXPECT_EQ(length, 511 * 7);
+  m.descriptors = Eigen::MatrixXf::Zero(x.rows(), length);
+  m.descriptors.leftCols(5) = x;
+  m.labels = labels;
+  m.persons = persons;
+  m.linear = LinearClassifier::train(m.descriptors, labels, 0.5);
+  const std::string path = ::testing::TempDir() + "posture_flow.model";
+  m.save(path);
+  const ActionModel back = ActionModel::load(path);
+  EXPECT_EQ(back.params.recognizer, Recognizer::PostureFlow);
+  EXPECT_EQ(back.params.pyramid.c, 0.5);
+  EXPECT_EQ(back.linear.weights(), m.linear.weights());
+  EXPECT_EQ(back.linear.classes(), m.linear.classes());
+  for (int i = 0; i < x.rows(); ++i)
+  {
+    const Classification a = m.classifier().classify(m.descriptors.row(i).transpose());
+    const Classification b = back.classifier().classify(back.descriptors.row(i).transpose());
+    EXPECT_EQ(a.label, b.label);
+    EXPECT_EQ(a.confidence, b.confidence);
+  }
+  // The runtime must compute the same frame descriptors: a paper runtime is refused.
+  EXPECT_THROW(back.checkCompatible(RecognitionParams(), path), ModelError);
+  EXPECT_NO_THROW(back.checkCompatible(defaultRecognitionParams(), path));
+
+  // A model whose classifier does not fit its sequences is refused at load, naming the fault.
+  ActionModel bad = m;
+  bad.params.pyramid.temporal_levels = 2;  // sequences would be 511 x 3 long
+  bad.descriptors = Eigen::MatrixXf::Zero(x.rows(), bad.sequenceLength());
+  bad.save(path);
+  try
+  {
+    ActionModel::load(path);
+    ADD_FAILURE() << "a linear classifier of the wrong length was accepted";
+  }
+  catch (const ModelError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("linear classifier of input length"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
