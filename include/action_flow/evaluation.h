@@ -102,25 +102,35 @@ struct LabelledSample
  * @brief Builds a model from the samples at @p rows: PCA fitted on their frame descriptors when
  *        params.use_pca (or @p fitted when given), then one sequence descriptor per sample. A sample without any frame
  *        descriptor (no flow was ever found) counts as one still frame: all zeros.
- *        posture_flow: with pyramid.mirror each sample is added mirrored too; with the linear
- *        classifier and pyramid.c = 0, C is chosen by chooseLinearC on these rows alone and
- *        recorded in the model's parameters.
+ *        posture_flow: with pyramid.mirror On each sample is added mirrored too; with the linear
+ *        classifier, pyramid.c = 0 and mirror Choose are decided by chooseLinear on these rows
+ *        alone, and the choice is recorded in the model's parameters.
  * @throws std::invalid_argument if @p rows is empty
  */
 ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
                        const RecognitionParams& params, const Pca* fitted = nullptr);
 
-/** @brief The values of the linear classifier's C that chooseLinearC tries. */
+/** @brief The values of the linear classifier's C that chooseLinear tries. */
 const std::vector<double>& linearCandidates();
 
+/** @brief What chooseLinear chose. */
+struct LinearChoice
+{
+  double c = 0.0;
+  bool mirror = false;  ///< train with the mirrored copies too
+};
+
 /**
- * @brief Chooses the linear classifier's C by cross-validation over people: the people of
- *        @p persons are dealt into @p inner_folds groups, each group is held out in turn, and the
- *        C of linearCandidates() with the best mean accuracy wins (the smaller C on a tie). Only
- *        the rows given are seen, so called on a fold's training set it never sees a test person.
+ * @brief Chooses the linear classifier's C, and whether to add the mirrored copies (when
+ *        @p mirrored is given: row i mirrored), by cross-validation over people: the people of
+ *        @p persons are dealt into @p inner_folds groups, each group is held out in turn (its
+ *        original rows are the queries), and the setting with the best mean accuracy wins (on a
+ *        tie: no mirror, the smaller C). Only the rows given are seen, so called on a fold's
+ *        training set it never sees a test person.
  */
-double chooseLinearC(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
-                     const std::vector<std::string>& persons, int inner_folds = 3);
+LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
+                          const std::vector<std::string>& labels, const std::vector<std::string>& persons,
+                          int inner_folds = 3);
 
 /** @brief The PCA basis trainModel fits on the frame descriptors of @p rows. */
 Pca fitPca(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows, double variance);

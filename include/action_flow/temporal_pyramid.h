@@ -9,6 +9,7 @@
 #include <action_flow/posture_flow.h>
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,14 @@ std::string toString(PyramidClassifier c);
 /** @throws std::invalid_argument for a name other than "linear" or "nn". */
 PyramidClassifier pyramidClassifierFromString(const std::string& name);
 
+/** @brief Whether training adds mirrored copies of the samples. */
+enum class MirrorMode : std::uint8_t
+{
+  Off = 0,
+  On = 1,
+  Choose = 2  ///< by cross-validation inside the training people
+};
+
 /**
  * @brief Every switch of the default recognizer after the frame descriptor. Each part can be
  *        turned off for an ablation; none of them changes the frame descriptors, so the
@@ -39,7 +48,12 @@ struct PyramidParams
   PyramidClassifier classifier = PyramidClassifier::Linear;
   /** Regularisation of the linear classifier; 0 = chosen by cross-validation inside the training people. */
   double c = 0.0;
-  bool mirror = true;               ///< training adds every sample mirrored left to right (label unchanged)
+  /**
+   * Training-time augmentation: every sample added mirrored left to right (label unchanged).
+   * Choose: decided with C by the cross-validation over the training people (it helps where
+   * people use either arm, and hurts where everyone uses the same one); the model records the choice.
+   */
+  MirrorMode mirror = MirrorMode::Choose;
 };
 
 /**

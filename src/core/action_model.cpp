@@ -134,7 +134,7 @@ void putParams(Writer& w, const RecognitionParams& p)
   w.put<std::int32_t>(p.pyramid.temporal_levels);
   w.put<std::int32_t>(p.pyramid.classifier == PyramidClassifier::Linear ? 0 : 1);
   w.put(p.pyramid.c);
-  w.put<std::uint8_t>(p.pyramid.mirror);
+  w.put<std::uint8_t>(static_cast<std::uint8_t>(p.pyramid.mirror));
 }
 
 RecognitionParams getParams(Reader& r, std::uint32_t version)
@@ -179,7 +179,10 @@ RecognitionParams getParams(Reader& r, std::uint32_t version)
     r.fail("unknown classifier code " + std::to_string(classifier));
   p.pyramid.classifier = classifier == 0 ? PyramidClassifier::Linear : PyramidClassifier::Nearest;
   p.pyramid.c = r.get<double>();
-  p.pyramid.mirror = r.get<std::uint8_t>() != 0;
+  const auto mirror = r.get<std::uint8_t>();
+  if (mirror > 2)
+    r.fail("unknown mirror code " + std::to_string(mirror));
+  p.pyramid.mirror = static_cast<MirrorMode>(mirror);
   return p;
 }
 

@@ -301,7 +301,9 @@ Eigen::VectorXf mirroredSequenceOf(const LabelledSample& sample, const ActionMod
   return model.sequence(frames, stamps);
 }
 
-double foldAccuracy(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
+// Accuracy on the originals of the people in @p held_out, trained on everyone else's rows (and
+// their mirrored copies, when given).
+double foldAccuracy(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored, const std::vector<std::string>& labels,
                     const std::vector<std::string>& persons, const std::vector<std::string>& held_out, double c)
 {
   std::vector<Eigen::Index> train, test;
@@ -313,7 +315,14 @@ double foldAccuracy(const Eigen::MatrixXf& x, const std::vector<std::string>& la
     train_labels.push_back(labels[i]);
   if (test.empty() || uniqueSorted(train_labels).size() < 2)
     return -1.0;
-  const LinearClassifier classifier = LinearClassifier::train(x(train, Eigen::all), train_labels, c);
+  Eigen::MatrixXf xt = x(train, Eigen::all);
+  if (mirrored)
+  {
+    xt.conservativeResize(2 * xt.rows(), Eigen::NoChange);
+    xt.bottomRows(train.size()) = (*mirrored)(train, Eigen::all);
+    train_labels.insert(train_labels.end(), train_labels.begin(), train_labels.end());
+  }
+  const LinearClassifier classifier = LinearClassifier::train(xt, train_labels, c);
   int right = 0;
   for (Eigen::Index i : test)
     right += classifier.classify(x.row(i).transpose()).label == labels[i];
@@ -327,38 +336,41 @@ const std::vector<double>& linearCandidates()
   return c;
 }
 
-double chooseLinearC(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
-                     const std::vector<std::string>& persons, int inner_folds)
+LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
+                          const std::vector<std::string>& labels, const std::vector<std::string>& persons,
+                          int inner_folds)
 {
   const std::vector<std::string> people = uniqueSorted(persons);
   const int k = std::min<int>(inner_folds, static_cast<int>(people.size()));
   if (k < 2)
-    return 0.1;  // one person: nothing to cross-validate on
-  double best_c = linearCandidates().front(), best = -1.0;
-  for (double c : linearCandidates())
-  {
-    double sum = 0.0;
-    int used = 0;
-    for (int f = 0; f < k; ++f)
+    return { 0.01, mirrored != nullptr };  // one person: nothing to cross-validate on
+  LinearChoice best_choice{ linearCandidates().front(), false };
+  double best = -1.0;
+  for (int m = 0; m < (mirrored ? 2 : 1); ++m)
+    for (double c : linearCandidates())
     {
-      std::vector<std::string> held_out;
-      for (std::size_t p = f; p < people.size(); p += k)
-        held_out.push_back(people[p]);
-      const double a = foldAccuracy(x, labels, persons, held_out, c);
-      if (a >= 0.0)
+      double sum = 0.0;
+      int used = 0;
+      for (int f = 0; f < k; ++f)
       {
-        sum += a;
-        ++used;
+        std::vector<std::string> held_out;
+        for (std::size_t p = f; p < people.size(); p += k)
+          held_out.push_back(people[p]);
+        const double a = foldAccuracy(x, m ? mirrored : nullptr, labels, persons, held_out, c);
+        if (a >= 0.0)
+        {
+          sum += a;
+          ++used;
+        }
+      }
+      const double mean = used > 0 ? sum / used : 0.0;
+      if (mean > best + 1e-9)  // ties keep the simpler choice: no mirror, the smaller C
+      {
+        best = mean;
+        best_choice = { c, m == 1 };
       }
     }
-    const double mean = used > 0 ? sum / used : 0.0;
-    if (mean > best + 1e-9)  // ties keep the smaller C (the stronger regularisation)
-    {
-      best = mean;
-      best_c = c;
-    }
-  }
-  return best_c;
+  return best_choice;
 }
 
 Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& model)
@@ -400,25 +412,48 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
   model.params = params;
   if (params.recognizer == Recognizer::Paper && params.use_pca)
     model.pca = fitted ? *fitted : fitPca(samples, rows, params.pca_variance);
-  const bool mirror = params.recognizer == Recognizer::PostureFlow && params.pyramid.mirror;
-  const std::size_t copies = mirror ? 2 : 1;
-  model.descriptors.resize(static_cast<Eigen::Index>(rows.size() * copies), model.sequenceLength());
+  std::vector<std::string> labels, persons;
+  Eigen::MatrixXf x(static_cast<Eigen::Index>(rows.size()), model.sequenceLength()), mirrored;
   for (std::size_t i = 0; i < rows.size(); ++i)
-    for (std::size_t m = 0; m < copies; ++m)
-    {
-      const LabelledSample& s = samples[rows[i]];
-      model.descriptors.row(static_cast<Eigen::Index>(i * copies + m)) =
-          (m == 0 ? sequenceOf(s, model) : mirroredSequenceOf(s, model)).transpose();
-      model.labels.push_back(s.action);
-      model.persons.push_back(s.person);
-    }
-  if (params.recognizer == Recognizer::PostureFlow && params.pyramid.classifier == PyramidClassifier::Linear)
   {
-    double& c = model.params.pyramid.c;
-    if (!(c > 0.0))  // chosen inside the training people: they are all this function sees
-      c = chooseLinearC(model.descriptors, model.labels, model.persons);
-    model.linear = LinearClassifier::train(model.descriptors, model.labels, c);
+    x.row(static_cast<Eigen::Index>(i)) = sequenceOf(samples[rows[i]], model).transpose();
+    labels.push_back(samples[rows[i]].action);
+    persons.push_back(samples[rows[i]].person);
   }
+  PyramidParams& pyramid = model.params.pyramid;
+  const bool posture_flow = params.recognizer == Recognizer::PostureFlow;
+  const bool linear = posture_flow && pyramid.classifier == PyramidClassifier::Linear;
+  if (posture_flow && pyramid.mirror != MirrorMode::Off)
+  {
+    mirrored.resize(x.rows(), x.cols());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      mirrored.row(static_cast<Eigen::Index>(i)) = mirroredSequenceOf(samples[rows[i]], model).transpose();
+  }
+  // Chosen inside the training people (they are all this function sees): C and, unless fixed,
+  // the mirrored copies. 1-NN has nothing to fit: Choose means mirrored copies there.
+  if (linear && (!(pyramid.c > 0.0) || pyramid.mirror == MirrorMode::Choose))
+  {
+    const LinearChoice choice = chooseLinear(x, mirrored.size() ? &mirrored : nullptr, labels, persons);
+    if (pyramid.mirror == MirrorMode::Choose)
+      pyramid.mirror = choice.mirror ? MirrorMode::On : MirrorMode::Off;
+    if (!(pyramid.c > 0.0))
+      pyramid.c = choice.c;
+  }
+  if (pyramid.mirror == MirrorMode::Choose)
+    pyramid.mirror = MirrorMode::On;
+  const bool mirror = posture_flow && pyramid.mirror == MirrorMode::On;
+  model.descriptors = x;
+  model.labels = labels;
+  model.persons = persons;
+  if (mirror)
+  {
+    model.descriptors.conservativeResize(2 * x.rows(), Eigen::NoChange);
+    model.descriptors.bottomRows(x.rows()) = mirrored;
+    model.labels.insert(model.labels.end(), labels.begin(), labels.end());
+    model.persons.insert(model.persons.end(), persons.begin(), persons.end());
+  }
+  if (linear)
+    model.linear = LinearClassifier::train(model.descriptors, model.labels, pyramid.c);
   return model;
 }
 

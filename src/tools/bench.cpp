@@ -6,8 +6,10 @@
 #include "../bench/training_set.h"
 
 #include <action_flow/action_classifier.h>
+#include <action_flow/action_model.h>
 #include <action_flow/flow_estimator.h>
 #include <action_flow/grid_descriptor.h>
+#include <action_flow/posture_flow.h>
 #include <action_flow/pca.h>
 #include <action_flow/sequence_descriptor.h>
 #ifdef ACTION_FLOW_BENCH_EVAL
@@ -191,7 +193,8 @@ void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>&
   const FlowEstimator ours(fp);
   const OctreeFlowBaseline base(fp, o.octree_resolution > 0 ? o.octree_resolution : o.octree_scale * voxel);
   const GridDescriptor grid;
-  StageSamples o_build, o_match, o_vel, o_out, o_total, o_desc, b_build, b_match, b_vel, b_out, b_total;
+  const PostureFlowDescriptor posture_flow;
+  StageSamples o_pf, o_build, o_match, o_vel, o_out, o_total, o_desc, b_build, b_match, b_vel, b_out, b_total;
   std::size_t points = 0, kept = 0, b_kept = 0, agree = 0, ours_matches = 0, base_matches = 0;
   int pairs = 0;
   for (const PersonSequence& seq : sequences)
@@ -219,8 +222,12 @@ void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>&
       for (std::size_t k = 0; k < frame->size(); ++k)
         centroid += frame->point(k);
       centroid /= std::max<std::size_t>(1, frame->size());
-      const Eigen::VectorXf d = grid.compute(kept_flow, PersonFrame::fromGround(centroid, ground, 1.75f, centroid));
+      const PersonFrame where = PersonFrame::fromGround(centroid, ground, 1.75f, centroid);
+      w.lap();
+      const Eigen::VectorXf d = grid.compute(kept_flow, where);
       const double t_desc = w.lap();
+      const Eigen::VectorXf pf = posture_flow.compute(clouds[i], kept_flow, where);
+      o_pf.add(w.lap());
       o_build.add(t_build);
       o_match.add(t_match);
       o_vel.add(t_vel);
@@ -289,7 +296,8 @@ void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>&
   row("flow vectors", o_vel, o.baseline ? &b_vel : none);
   row("outlier removal", o_out, o.baseline ? &b_out : none);
   row("flow step total", o_total, o.baseline ? &b_total : none);
-  row("descriptor", o_desc, none);
+  row("descriptor: paper's SUMFLOW", o_desc, none);
+  row("descriptor: posture_flow; base = SUMFLOW", o_pf, &o_desc);
   const double np = pairs;
   std::printf("\nflow vectors kept per frame: ours %.1f", kept / np);
   if (o.baseline)
@@ -337,6 +345,54 @@ void loadCachedSequences(const Options& o, std::vector<DescriptorSequence>& trai
     throw std::runtime_error(o.descriptors + ": need training sequences and queries of person " + o.query_person);
 }
 #endif
+
+// The default recognizer's classification: temporal pyramid of posture-and-flow frames, then the
+// linear classifier (a product with the weights), on generated sequences of the same shape.
+void benchPostureFlowClassification(const Options& o)
+{
+  const int actions = 15;
+  ActionModel model;
+  model.params = defaultRecognitionParams();
+  model.params.pyramid.c = 0.01;
+  const int size = frameDescriptorLength(model.params);
+  // makeSequences makes lengths that are multiples of 3: make one more and cut.
+  const auto make = [&](int count, std::uint32_t seed) {
+    std::vector<DescriptorSequence> s = makeSequences(count, actions, size + 3 - size % 3, seed);
+    for (auto& q : s)
+      for (auto& f : q.frames)
+        f.conservativeResize(size);
+    return s;
+  };
+  const std::vector<DescriptorSequence> train = make(o.training, 1), queries = make(o.queries, 2);
+  Stopwatch w(o.clock);
+  model.descriptors.resize(static_cast<Eigen::Index>(train.size()), model.sequenceLength());
+  for (std::size_t i = 0; i < train.size(); ++i)
+  {
+    model.descriptors.row(static_cast<Eigen::Index>(i)) = model.sequence(train[i].frames, train[i].stamps).transpose();
+    model.labels.push_back(train[i].label);
+  }
+  model.linear = LinearClassifier::train(model.descriptors, model.labels, model.params.pyramid.c);
+  const SequenceClassifier classifier = model.classifier();
+  std::printf("\n### Classification, posture_flow: %zu training sequences of %d actions, %zu queries, generated "
+              "(trained in %.1f s); %ld values per sequence\n",
+              train.size(), actions, queries.size(), w.seconds(), static_cast<long>(model.sequenceLength()));
+  StageSamples pyramid, linear, total;
+  for (const auto& q : queries)
+  {
+    Stopwatch s(o.clock);
+    const Eigen::VectorXf d = model.sequence(q.frames, q.stamps);
+    const double t_seq = s.lap();
+    classifier.classify(d);
+    const double t_cls = s.lap();
+    pyramid.add(t_seq);
+    linear.add(t_cls);
+    total.add(t_seq + t_cls);
+  }
+  header("| classification (ms)");
+  row("temporal pyramid", pyramid, nullptr);
+  row("linear classifier", linear, nullptr);
+  row("classify, posture_flow", total, nullptr);
+}
 
 void benchClassification(const Options& o)
 {
@@ -537,7 +593,10 @@ int main(int argc, char** argv)
                   tracker_people / static_cast<double>(tracker_time.size()));
     }
     if (o.classification)
+    {
       benchClassification(o);
+      benchPostureFlowClassification(o);
+    }
   }
   catch (const std::exception& e)
   {

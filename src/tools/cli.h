@@ -91,7 +91,8 @@ inline const char* methodUsage()
          "                                  over the training people)\n"
          "  --temporal-levels N             pyramid levels, 1 = whole sequence only (default 3)\n"
          "  --no-posture, --no-direction-histogram, --single-level, --no-mirror\n"
-         "                                  switch off one part (for ablations)\n"
+         "                                  switch off one part (for ablations); mirrored training copies\n"
+         "                                  are otherwise used or not as the cross-validation chooses\n"
          "  paper:\n"
          "  --descriptor sumflow|meanflow   frame descriptor (default sumflow)\n"
          "  --frames F                      frames per sequence descriptor (default 30)\n"
@@ -113,7 +114,8 @@ inline RecognitionParams methodParams(const Args& a)
   p.pyramid.posture = !a.has("no-posture");
   p.pyramid.direction_histogram = !a.has("no-direction-histogram");
   p.pyramid.coarse_to_fine = !a.has("single-level");
-  p.pyramid.mirror = !a.has("no-mirror");
+  if (a.has("no-mirror"))
+    p.pyramid.mirror = MirrorMode::Off;
   if (p.pyramid.c < 0 || p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
     throw std::invalid_argument("--c must be >= 0 and --temporal-levels in 1..4");
   p.grid.aggregation = aggregationFromString(a.get("descriptor", "sumflow"));

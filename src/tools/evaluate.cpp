@@ -119,7 +119,7 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
       train_persons.push_back(persons[r]);
     }
     const Eigen::MatrixXf xt = x(train, Eigen::all);
-    const LinearClassifier c = LinearClassifier::train(xt, train_labels, chooseLinearC(xt, train_labels, train_persons));
+    const LinearClassifier c = LinearClassifier::train(xt, train_labels, chooseLinear(xt, nullptr, train_labels, train_persons).c);
     Confusion mine(all.labels);
     for (std::size_t t : fold.test)
     {
@@ -232,8 +232,8 @@ int main(int argc, char** argv)
         ablation([](PyramidParams& p) { p.temporal_levels = 1; }), 3 },
       { "posture_flow_nn", "posture_flow, 1-NN instead of the linear classifier",
         ablation([](PyramidParams& p) { p.classifier = PyramidClassifier::Nearest; }), 3 },
-      { "posture_flow_no_mirror", "posture_flow without mirrored training copies",
-        ablation([](PyramidParams& p) { p.mirror = false; }), 3 },
+      { "posture_flow_no_mirror", "posture_flow, never mirrored training copies",
+        ablation([](PyramidParams& p) { p.mirror = MirrorMode::Off; }), 3 },
       { "meanflow", "paper: MEANFLOW", mean, 1 },
       { "sumflow_raw", "paper: SUMFLOW without outlier rejection", raw, 2 },
       { "sumflow", "paper: SUMFLOW", sum, 0 },

@@ -67,8 +67,9 @@ int main(int argc, char** argv)
                 model.classifier().classes().size(), static_cast<long>(model.descriptors.cols()),
                 model.pca.empty() ? "" : (" (PCA " + std::to_string(model.pca.outputSize()) + " per frame)").c_str());
     if (!model.linear.empty())
-      std::printf("train: linear classifier, C = %g (%s)\n", model.params.pyramid.c,
-                  params.pyramid.c > 0 ? "given" : "chosen by cross-validation over the training people");
+      std::printf("train: linear classifier, C = %g (%s), mirrored training copies %s\n", model.params.pyramid.c,
+                  params.pyramid.c > 0 ? "given" : "chosen by cross-validation over the training people",
+                  model.params.pyramid.mirror == MirrorMode::On ? "used" : "not used");
     return 0;
   }
   catch (const std::exception& e)

@@ -255,12 +255,16 @@ TEST(Experiments, DefaultRecognizerRecognisesSeparableActions)
   EXPECT_EQ(per_fold.size(), 4u);
 
   const ActionModel m = trainModel(s.samples, { 0, 1, 2, 3, 4, 5 }, params);
-  EXPECT_EQ(m.descriptors.rows(), 12) << "6 samples, each mirrored too";
+  EXPECT_NE(m.params.pyramid.mirror, MirrorMode::Choose) << "the choice is recorded in the model";
+  EXPECT_EQ(m.descriptors.rows(), m.params.pyramid.mirror == MirrorMode::On ? 12 : 6);
   EXPECT_FALSE(m.linear.empty());
   EXPECT_GT(m.params.pyramid.c, 0.0) << "the chosen C is recorded in the model";
+  RecognitionParams mirrored = params;
+  mirrored.pyramid.mirror = MirrorMode::On;
+  EXPECT_EQ(trainModel(s.samples, { 0, 1, 2, 3, 4, 5 }, mirrored).descriptors.rows(), 12) << "6 samples, each mirrored too";
   RecognitionParams nn = params;
   nn.pyramid.classifier = PyramidClassifier::Nearest;
-  nn.pyramid.mirror = false;
+  nn.pyramid.mirror = MirrorMode::Off;
   EXPECT_DOUBLE_EQ(runFolds(s.samples, leaveOnePersonOut(s.persons), nn).accuracy(), 1.0);
   EXPECT_TRUE(trainModel(s.samples, { 0, 1, 2 }, nn).linear.empty());
 }
@@ -275,6 +279,7 @@ TEST(Experiments, ModelSelectionNeverSeesATestPerson)
     s.frames[t].descriptors = s.frames[t].descriptors.reverse() * 7.0f;
   const ActionModel after = trainModel(s.samples, fold.train, defaultRecognitionParams());
   EXPECT_EQ(before.params.pyramid.c, after.params.pyramid.c);
+  EXPECT_EQ(before.params.pyramid.mirror, after.params.pyramid.mirror);
   EXPECT_EQ(before.linear.weights(), after.linear.weights());
   for (const auto& p : before.persons)
     EXPECT_NE(p, "p0");
