@@ -3,7 +3,7 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(OPENNI2 REQUIRED libopenni2)
 
 # Stage types (zero-copy message traits) and parameter reading, shared by every nodelet.
-add_library(action_flow_ros src/nodelets/stage_types.cpp src/nodelets/params.cpp)
+add_library(action_flow_ros src/nodelets/stage_types.cpp src/nodelets/params.cpp src/nodelets/input_checks.cpp)
 add_dependencies(action_flow_ros ${PROJECT_NAME}_generate_messages_cpp)
 target_link_libraries(action_flow_ros action_flow_core ${catkin_LIBRARIES})
 
@@ -11,13 +11,14 @@ target_link_libraries(action_flow_ros action_flow_core ${catkin_LIBRARIES})
 add_library(action_flow_nodelets
   src/nodelets/flow_nodelet.cpp
   src/nodelets/descriptor_nodelet.cpp
-  src/nodelets/classifier_nodelet.cpp)
+  src/nodelets/classifier_nodelet.cpp
+  src/nodelets/image_guard_nodelet.cpp)
 target_link_libraries(action_flow_nodelets action_flow_ros)
 
 # OpenNI2 driver.
 add_library(action_flow_driver src/driver/openni2_device.cpp src/nodelets/driver_nodelet.cpp)
 target_include_directories(action_flow_driver SYSTEM PRIVATE ${OPENNI2_INCLUDE_DIRS})
-target_link_libraries(action_flow_driver ${OPENNI2_LIBRARIES} ${catkin_LIBRARIES})
+target_link_libraries(action_flow_driver action_flow_ros ${OPENNI2_LIBRARIES} ${catkin_LIBRARIES})
 
 # People tracker stage, over the tracker part's core library.
 add_library(action_flow_tracker_nodelet src/nodelets/people_tracker_nodelet.cpp)
@@ -61,6 +62,9 @@ if(CATKIN_ENABLE_TESTING)
   add_custom_target(action_flow_test_models DEPENDS ${ACTION_FLOW_TEST_MODELS}/two_actions.afm)
   add_dependencies(tests action_flow_test_models)
 
+  catkin_add_gtest(test_input_checks test/ros/test_input_checks.cpp)
+  target_link_libraries(test_input_checks action_flow_ros gtest_main)
+
   add_executable(test_load_all EXCLUDE_FROM_ALL test/ros/test_load_all.cpp)
   target_link_libraries(test_load_all ${catkin_LIBRARIES} gtest)
   add_executable(test_stages EXCLUDE_FROM_ALL test/ros/test_stages.cpp test/ros/test_scene.cpp)
@@ -80,6 +84,7 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/flow_reset.test DEPENDENCIES test_stages)
   add_rostest(test/ros/flow_bad_input.test DEPENDENCIES test_stages)
   add_rostest(test/ros/descriptor.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/image_guard.test DEPENDENCIES test_stages)
   add_rostest(test/ros/classifier_segmented.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
   add_rostest(test/ros/classifier_online.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
   add_rostest(test/ros/classifier_bad_model.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)

@@ -103,8 +103,8 @@ struct LabelledSample
  *        params.use_pca (or @p fitted when given), then one sequence descriptor per sample. A sample without any frame
  *        descriptor (no flow was ever found) counts as one still frame: all zeros.
  *        posture_flow: with pyramid.mirror On each sample is added mirrored too; with the linear
- *        classifier, pyramid.c = 0 and mirror Choose are decided by chooseLinear on these rows
- *        alone, and the choice is recorded in the model's parameters.
+ *        classifier, pyramid.c = 0, mirror Choose and flow Choose are decided by cross-validation
+ *        (chooseLinear) on these rows alone, and the choice is recorded in the model's parameters.
  * @throws std::invalid_argument if @p rows is empty
  */
 ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
@@ -118,18 +118,20 @@ struct LinearChoice
 {
   double c = 0.0;
   bool mirror = false;  ///< train with the mirrored copies too
+  double score = -1.0;  ///< its mean accuracy over the held-out groups (-1: not cross-validated)
 };
 
 /**
- * @brief Chooses the linear classifier's C, and whether to add the mirrored copies (when
- *        @p mirrored is given: row i mirrored), by cross-validation over people: the people of
- *        @p persons are dealt into @p inner_folds groups, each group is held out in turn (its
- *        original rows are the queries), and the setting with the best mean accuracy wins (on a
- *        tie: no mirror, the smaller C). Only the rows given are seen, so called on a fold's
- *        training set it never sees a test person.
+ * @brief Chooses the linear classifier's C (of @p c_options), and whether to add the mirrored
+ *        copies (of @p mirror_options; @p mirrored holds row i mirrored), by cross-validation over
+ *        people: the people of @p persons are dealt into @p inner_folds groups, each group is held
+ *        out in turn (its original rows are the queries), and the setting with the best mean
+ *        accuracy wins (on a tie the earlier option). Only the rows given are seen, so called on a
+ *        fold's training set it never sees a test person.
  */
 LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
                           const std::vector<std::string>& labels, const std::vector<std::string>& persons,
+                          const std::vector<bool>& mirror_options, const std::vector<double>& c_options,
                           int inner_folds = 3);
 
 /** @brief The PCA basis trainModel fits on the frame descriptors of @p rows. */

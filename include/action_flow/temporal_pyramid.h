@@ -26,6 +26,14 @@ std::string toString(PyramidClassifier c);
 /** @throws std::invalid_argument for a name other than "linear" or "nn". */
 PyramidClassifier pyramidClassifierFromString(const std::string& name);
 
+/** @brief How the flow of a cell enters the sequence descriptor. */
+enum class FlowEncoding : std::uint8_t
+{
+  Sums = 0,   ///< the 3 signed sums of the components (the paper's SUMFLOW per cell, not normalised)
+  Bins = 1,   ///< the 6 direction bins (+x, -x, +y, -y, +z, -z): a back-and-forth motion does not cancel out
+  Choose = 2  ///< by cross-validation inside the training people
+};
+
 /** @brief Whether training adds mirrored copies of the samples. */
 enum class MirrorMode : std::uint8_t
 {
@@ -42,7 +50,7 @@ enum class MirrorMode : std::uint8_t
 struct PyramidParams
 {
   bool posture = true;              ///< use the cells' shares of the body's points
-  bool direction_histogram = true;  ///< flow as 6 sign bins per cell; false: the 3 signed sums
+  FlowEncoding flow = FlowEncoding::Choose;  ///< direction bins or signed sums per cell
   bool coarse_to_fine = true;       ///< cells at 1, 2 and 4 parts per axis; false: 4 only
   int temporal_levels = 3;          ///< pyramid levels: 1 = whole sequence, 2 = + halves, 3 = + quarters
   PyramidClassifier classifier = PyramidClassifier::Linear;
@@ -58,7 +66,8 @@ struct PyramidParams
 
 /**
  * @brief The part of a full posture-and-flow frame descriptor that @p params use.
- * @throws std::invalid_argument if @p full does not have @p layout's length
+ * @throws std::invalid_argument if @p full does not have @p layout's length, or params.flow is
+ *         still Choose
  */
 Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFlowDescriptor& layout,
                                     const PyramidParams& params);

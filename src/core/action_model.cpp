@@ -129,7 +129,7 @@ void putParams(Writer& w, const RecognitionParams& p)
   // Since format version 2.
   w.put<std::int32_t>(p.recognizer == Recognizer::Paper ? 0 : 1);
   w.put<std::uint8_t>(p.pyramid.posture);
-  w.put<std::uint8_t>(p.pyramid.direction_histogram);
+  w.put<std::uint8_t>(static_cast<std::uint8_t>(p.pyramid.flow));
   w.put<std::uint8_t>(p.pyramid.coarse_to_fine);
   w.put<std::int32_t>(p.pyramid.temporal_levels);
   w.put<std::int32_t>(p.pyramid.classifier == PyramidClassifier::Linear ? 0 : 1);
@@ -169,7 +169,10 @@ RecognitionParams getParams(Reader& r, std::uint32_t version)
     r.fail("unknown recognizer code " + std::to_string(recognizer));
   p.recognizer = recognizer == 0 ? Recognizer::Paper : Recognizer::PostureFlow;
   p.pyramid.posture = r.get<std::uint8_t>() != 0;
-  p.pyramid.direction_histogram = r.get<std::uint8_t>() != 0;
+  const auto flow = r.get<std::uint8_t>();
+  if (flow > 2)
+    r.fail("unknown flow encoding code " + std::to_string(flow));
+  p.pyramid.flow = static_cast<FlowEncoding>(flow);
   p.pyramid.coarse_to_fine = r.get<std::uint8_t>() != 0;
   p.pyramid.temporal_levels = r.get<std::int32_t>();
   if (p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
@@ -382,6 +385,9 @@ ActionModel ActionModel::load(const std::string& path)
   if (m.params.recognizer == Recognizer::Paper && !m.pca.empty() && m.pca.inputSize() != 3 * m.params.grid.cells())
     r.fail("PCA basis of input length " + std::to_string(m.pca.inputSize()) + " does not fit frame descriptors of " +
            std::to_string(3 * m.params.grid.cells()));
+  if (m.params.recognizer == Recognizer::PostureFlow &&
+      (m.params.pyramid.flow == FlowEncoding::Choose || m.params.pyramid.mirror == MirrorMode::Choose))
+    r.fail("holds settings that were never chosen (flow encoding or mirror)");
   if (m.descriptors.rows() > 0 && m.descriptors.cols() != m.sequenceLength())
     r.fail("descriptor length " + std::to_string(m.descriptors.cols()) + " does not match its parameters (" +
            std::to_string(m.sequenceLength()) + ")");

@@ -25,7 +25,10 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
   if (full.size() != layout.size())
     throw std::invalid_argument("selectFrameFeatures: frame descriptor of length " + std::to_string(full.size()) +
                                 ", expected " + std::to_string(layout.size()));
-  const int per_cell = (params.posture ? 1 : 0) + (params.direction_histogram ? 6 : 3);
+  if (params.flow == FlowEncoding::Choose)
+    throw std::invalid_argument("selectFrameFeatures: the flow encoding has not been chosen yet");
+  const bool bins = params.flow == FlowEncoding::Bins;
+  const int per_cell = (params.posture ? 1 : 0) + (bins ? 6 : 3);
   const int first = params.coarse_to_fine ? 0 : PostureFlowDescriptor::kLevels - 1;
   int cells = 0;
   for (int l = first; l < PostureFlowDescriptor::kLevels; ++l)
@@ -39,7 +42,7 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
       if (params.posture)
         out[at++] = cell[0];
       for (int a = 0; a < 3; ++a)
-        if (params.direction_histogram)
+        if (bins)
         {
           out[at++] = cell[1 + 2 * a];
           out[at++] = cell[2 + 2 * a];

@@ -332,22 +332,25 @@ double foldAccuracy(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored, c
 
 const std::vector<double>& linearCandidates()
 {
-  static const std::vector<double> c = { 0.003, 0.01, 0.03, 0.1 };
+  static const std::vector<double> c = { 0.001, 0.01, 0.1, 1.0 };
   return c;
 }
 
 LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
                           const std::vector<std::string>& labels, const std::vector<std::string>& persons,
+                          const std::vector<bool>& mirror_options, const std::vector<double>& c_options,
                           int inner_folds)
 {
   const std::vector<std::string> people = uniqueSorted(persons);
   const int k = std::min<int>(inner_folds, static_cast<int>(people.size()));
+  LinearChoice best{ c_options.front(), mirror_options.front(), -1.0 };
   if (k < 2)
-    return { 0.01, mirrored != nullptr };  // one person: nothing to cross-validate on
-  LinearChoice best_choice{ linearCandidates().front(), false };
-  double best = -1.0;
-  for (int m = 0; m < (mirrored ? 2 : 1); ++m)
-    for (double c : linearCandidates())
+    return best;  // one person: nothing to cross-validate on
+  for (bool m : mirror_options)
+  {
+    if (m && !mirrored)
+      throw std::invalid_argument("chooseLinear: mirrored copies are an option but none were given");
+    for (double c : c_options)
     {
       double sum = 0.0;
       int used = 0;
@@ -364,13 +367,11 @@ LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirro
         }
       }
       const double mean = used > 0 ? sum / used : 0.0;
-      if (mean > best + 1e-9)  // ties keep the simpler choice: no mirror, the smaller C
-      {
-        best = mean;
-        best_choice = { c, m == 1 };
-      }
+      if (mean > best.score + 1e-9)  // ties keep the earlier option: no mirror, the smaller C
+        best = { c, m, mean };
     }
-  return best_choice;
+  }
+  return best;
 }
 
 Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& model)
@@ -413,34 +414,68 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
   if (params.recognizer == Recognizer::Paper && params.use_pca)
     model.pca = fitted ? *fitted : fitPca(samples, rows, params.pca_variance);
   std::vector<std::string> labels, persons;
-  Eigen::MatrixXf x(static_cast<Eigen::Index>(rows.size()), model.sequenceLength()), mirrored;
-  for (std::size_t i = 0; i < rows.size(); ++i)
+  for (std::size_t r : rows)
   {
-    x.row(static_cast<Eigen::Index>(i)) = sequenceOf(samples[rows[i]], model).transpose();
-    labels.push_back(samples[rows[i]].action);
-    persons.push_back(samples[rows[i]].person);
+    labels.push_back(samples[r].action);
+    persons.push_back(samples[r].person);
   }
   PyramidParams& pyramid = model.params.pyramid;
   const bool posture_flow = params.recognizer == Recognizer::PostureFlow;
   const bool linear = posture_flow && pyramid.classifier == PyramidClassifier::Linear;
-  if (posture_flow && pyramid.mirror != MirrorMode::Off)
-  {
-    mirrored.resize(x.rows(), x.cols());
+  // The sequence descriptors of the rows (and mirrored) under one flow encoding.
+  const auto describe = [&](FlowEncoding flow, bool with_mirrored, Eigen::MatrixXf& x, Eigen::MatrixXf& mirrored) {
+    ActionModel probe = model;
+    probe.params.pyramid.flow = flow;
+    x.resize(static_cast<Eigen::Index>(rows.size()), probe.sequenceLength());
     for (std::size_t i = 0; i < rows.size(); ++i)
-      mirrored.row(static_cast<Eigen::Index>(i)) = mirroredSequenceOf(samples[rows[i]], model).transpose();
-  }
-  // Chosen inside the training people (they are all this function sees): C and, unless fixed,
-  // the mirrored copies. 1-NN has nothing to fit: Choose means mirrored copies there.
-  if (linear && (!(pyramid.c > 0.0) || pyramid.mirror == MirrorMode::Choose))
+      x.row(static_cast<Eigen::Index>(i)) = sequenceOf(samples[rows[i]], probe).transpose();
+    mirrored.resize(with_mirrored ? x.rows() : 0, x.cols());
+    for (std::size_t i = 0; with_mirrored && i < rows.size(); ++i)
+      mirrored.row(static_cast<Eigen::Index>(i)) = mirroredSequenceOf(samples[rows[i]], probe).transpose();
+  };
+  Eigen::MatrixXf x, mirrored;
+  if (!posture_flow)
+    describe(FlowEncoding::Bins, false, x, mirrored);
+  else if (linear && (!(pyramid.c > 0.0) || pyramid.mirror == MirrorMode::Choose || pyramid.flow == FlowEncoding::Choose))
   {
-    const LinearChoice choice = chooseLinear(x, mirrored.size() ? &mirrored : nullptr, labels, persons);
-    if (pyramid.mirror == MirrorMode::Choose)
-      pyramid.mirror = choice.mirror ? MirrorMode::On : MirrorMode::Off;
-    if (!(pyramid.c > 0.0))
-      pyramid.c = choice.c;
+    // Chosen inside the training people (they are all this function sees): C, the mirrored copies
+    // and the flow encoding, whichever are not fixed. The choice is recorded in the model.
+    std::vector<bool> mirror_options;
+    if (pyramid.mirror != MirrorMode::On)
+      mirror_options.push_back(false);
+    if (pyramid.mirror != MirrorMode::Off)
+      mirror_options.push_back(true);
+    const std::vector<double> c_options = pyramid.c > 0.0 ? std::vector<double>{ pyramid.c } : linearCandidates();
+    std::vector<FlowEncoding> encodings;
+    for (FlowEncoding e : { FlowEncoding::Bins, FlowEncoding::Sums })
+      if (pyramid.flow == FlowEncoding::Choose || pyramid.flow == e)
+        encodings.push_back(e);
+    LinearChoice best;
+    for (FlowEncoding e : encodings)
+    {
+      Eigen::MatrixXf xe, me;
+      describe(e, mirror_options.back(), xe, me);
+      const LinearChoice choice = chooseLinear(xe, me.size() ? &me : nullptr, labels, persons, mirror_options, c_options);
+      if (x.size() == 0 || choice.score > best.score + 1e-9)
+      {
+        best = choice;
+        pyramid.flow = e;
+        x = std::move(xe);
+        mirrored = std::move(me);
+      }
+    }
+    pyramid.c = best.c;
+    pyramid.mirror = best.mirror ? MirrorMode::On : MirrorMode::Off;
   }
-  if (pyramid.mirror == MirrorMode::Choose)
-    pyramid.mirror = MirrorMode::On;
+  else
+  {
+    // 1-NN has nothing to fit: what is not fixed takes the fuller option.
+    if (pyramid.flow == FlowEncoding::Choose)
+      pyramid.flow = FlowEncoding::Bins;
+    if (pyramid.mirror == MirrorMode::Choose)
+      pyramid.mirror = MirrorMode::On;
+    describe(pyramid.flow, pyramid.mirror == MirrorMode::On, x, mirrored);
+  }
   const bool mirror = posture_flow && pyramid.mirror == MirrorMode::On;
   model.descriptors = x;
   model.labels = labels;

@@ -2,6 +2,7 @@
 // organized XYZRGB cloud and camera_info; streams run only while someone subscribes.
 #include "../driver/openni2_device.h"
 
+#include <action_flow/ros/input_checks.h>
 #include <action_flow/types.h>
 
 #include <nodelet/nodelet.h>
@@ -44,7 +45,7 @@ private:
       frame_id_.erase(0, 1);
     // The polling thread reads the subscriber counts; the connect callbacks only need to exist.
     auto cb = [](const ros::SingleSubscriberPublisher&) {};
-    cloud_pub_ = getNodeHandle().advertise<Cloud>("cloud", 2, cb, cb);
+    cloud_pub_ = getNodeHandle().advertise<InputCloud>("cloud", 2, cb, cb);
     info_pub_ = getNodeHandle().advertise<sensor_msgs::CameraInfo>("camera_info", 2, cb, cb);
     running_ = true;
     thread_ = std::thread(&DriverNodelet::run, this);
@@ -137,7 +138,7 @@ private:
         p.g = f.rgb[3 * i + 1];
         p.b = f.rgb[3 * i + 2];
       }
-    cloud_pub_.publish(cloud);
+    cloud_pub_.publish(InputCloud::of(cloud));
 
     auto info = boost::make_shared<sensor_msgs::CameraInfo>();
     info->header = header;

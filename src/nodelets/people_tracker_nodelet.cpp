@@ -1,6 +1,7 @@
 // People tracker stage: ground, detection and tracking (core PeopleTracker); each tracked person's cloud.
 #include <action_flow/TrackedPeople.h>
 #include <action_flow/people_tracker.h>
+#include <action_flow/ros/input_checks.h>
 #include <action_flow/ros/lazy_nodelet.h>
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
@@ -15,7 +16,8 @@
 namespace action_flow
 {
 /**
- * Subscribes `cloud` (pcl::PointCloud<pcl::PointXYZRGB>); publishes `person_clouds`
+ * Subscribes `cloud` (InputCloud: in-process the publisher's pcl::PointCloud<pcl::PointXYZRGB>
+ * itself, from elsewhere a sensor_msgs/PointCloud2 that is checked before it is read); publishes `person_clouds`
  * (PeopleClouds) and `people` (TrackedPeople). Parameters (private): the TrackerParams members
  * (`ground` as a,b,c,d fixes the ground plane, `up_hint` as x,y,z), `fixed_frame` (empty: work in
  * the camera frame; else clouds are transformed into it with tf2, e.g. odom on a moving robot, and
@@ -49,9 +51,20 @@ class PeopleTrackerNodelet : public LazyNodelet
       tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, getNodeHandle());
       NODELET_INFO("tracking in the fixed frame '%s'", fixed_frame_.c_str());
     }
-    setSubscribe([this] { return getNodeHandle().subscribe("cloud", 5, &PeopleTrackerNodelet::onCloud, this); });
+    setSubscribe([this] { return getNodeHandle().subscribe("cloud", 5, &PeopleTrackerNodelet::onInput, this); });
     clouds_pub_ = advertiseLazy<PeopleClouds>("person_clouds", 10);
     people_pub_ = advertiseLazy<TrackedPeople>("people", 10);
+  }
+
+  void onInput(const InputCloud::ConstPtr& input)
+  {
+    if (!input->cloud)
+    {
+      NODELET_ERROR_THROTTLE(5, "dropped a malformed point cloud on %s: it %s", getNodeHandle().resolveName("cloud").c_str(),
+                             input->error.c_str());
+      return;
+    }
+    onCloud(input->cloud);
   }
 
   void onCloud(const boost::shared_ptr<const Cloud>& in)

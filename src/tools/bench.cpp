@@ -354,6 +354,8 @@ void benchPostureFlowClassification(const Options& o)
   ActionModel model;
   model.params = defaultRecognitionParams();
   model.params.pyramid.c = 0.01;
+  model.params.pyramid.flow = FlowEncoding::Bins;
+  model.params.pyramid.mirror = MirrorMode::Off;
   const int size = frameDescriptorLength(model.params);
   // makeSequences makes lengths that are multiples of 3: make one more and cut.
   const auto make = [&](int count, std::uint32_t seed) {

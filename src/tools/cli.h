@@ -76,7 +76,7 @@ inline const std::set<std::string>& methodOptions()
 inline const std::set<std::string>& methodFlags()
 {
   static const std::set<std::string> o = { "pca", "no-outlier-rejection", "no-posture", "no-direction-histogram",
-                                           "single-level", "no-mirror" };
+                                           "single-level", "no-mirror", "mirror", "direction-histogram" };
   return o;
 }
 
@@ -112,10 +112,15 @@ inline RecognitionParams methodParams(const Args& a)
   p.pyramid.c = a.number("c", p.pyramid.c);
   p.pyramid.temporal_levels = static_cast<int>(a.number("temporal-levels", p.pyramid.temporal_levels));
   p.pyramid.posture = !a.has("no-posture");
-  p.pyramid.direction_histogram = !a.has("no-direction-histogram");
+  if (a.has("no-direction-histogram"))
+    p.pyramid.flow = FlowEncoding::Sums;
+  if (a.has("direction-histogram"))
+    p.pyramid.flow = FlowEncoding::Bins;
   p.pyramid.coarse_to_fine = !a.has("single-level");
   if (a.has("no-mirror"))
     p.pyramid.mirror = MirrorMode::Off;
+  if (a.has("mirror"))
+    p.pyramid.mirror = MirrorMode::On;
   if (p.pyramid.c < 0 || p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
     throw std::invalid_argument("--c must be >= 0 and --temporal-levels in 1..4");
   p.grid.aggregation = aggregationFromString(a.get("descriptor", "sumflow"));

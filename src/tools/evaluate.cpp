@@ -29,9 +29,10 @@ const char* kUsage =
     "  --protocol lopo|cross-subject   leave-one-person-out (default) or train on --train-persons\n"
     "  --train-persons a,b,...         cross-subject training people (default s01,s03,s05,s07,s09)\n"
     "  --actions a,b,...               evaluate on these actions only (e.g. an MSR subset)\n"
-    "  --variants v1,v2,...            of posture_flow, posture_flow_no_posture, posture_flow_no_histogram,\n"
-    "                                  posture_flow_single_level, posture_flow_no_pyramid, posture_flow_nn,\n"
-    "                                  posture_flow_no_mirror, meanflow, sumflow_raw, sumflow, sumflow_pca,\n"
+    "  --variants v1,v2,...            of posture_flow, posture_flow_no_posture, posture_flow_sums,\n"
+    "                                  posture_flow_bins, posture_flow_single_level, posture_flow_no_pyramid,\n"
+    "                                  posture_flow_nn, posture_flow_no_mirror, posture_flow_mirror,\n"
+    "                                  meanflow, sumflow_raw, sumflow, sumflow_pca,\n"
     "                                  joints (MSR Action3D only) (default: all)\n"
     "  --frames F                      the paper's frames per sequence (default 30)\n"
     "  --sweep N                       the paper's accuracy for 1..N frames, with and without PCA (default 40;\n"
@@ -119,7 +120,7 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
       train_persons.push_back(persons[r]);
     }
     const Eigen::MatrixXf xt = x(train, Eigen::all);
-    const LinearClassifier c = LinearClassifier::train(xt, train_labels, chooseLinear(xt, nullptr, train_labels, train_persons).c);
+    const LinearClassifier c = LinearClassifier::train(xt, train_labels, chooseLinear(xt, nullptr, train_labels, train_persons, { false }, linearCandidates()).c);
     Confusion mine(all.labels);
     for (std::size_t t : fold.test)
     {
@@ -224,8 +225,10 @@ int main(int argc, char** argv)
     std::vector<Variant> all = {
       { "posture_flow", "posture_flow (default)", pf, 3 },
       { "posture_flow_no_posture", "posture_flow without posture", ablation([](PyramidParams& p) { p.posture = false; }), 3 },
-      { "posture_flow_no_histogram", "posture_flow, signed flow sums instead of direction bins",
-        ablation([](PyramidParams& p) { p.direction_histogram = false; }), 3 },
+      { "posture_flow_sums", "posture_flow, always signed flow sums",
+        ablation([](PyramidParams& p) { p.flow = FlowEncoding::Sums; }), 3 },
+      { "posture_flow_bins", "posture_flow, always direction bins",
+        ablation([](PyramidParams& p) { p.flow = FlowEncoding::Bins; }), 3 },
       { "posture_flow_single_level", "posture_flow, 4x4x4 grid only",
         ablation([](PyramidParams& p) { p.coarse_to_fine = false; }), 3 },
       { "posture_flow_no_pyramid", "posture_flow, whole-sequence mean only",
@@ -234,6 +237,8 @@ int main(int argc, char** argv)
         ablation([](PyramidParams& p) { p.classifier = PyramidClassifier::Nearest; }), 3 },
       { "posture_flow_no_mirror", "posture_flow, never mirrored training copies",
         ablation([](PyramidParams& p) { p.mirror = MirrorMode::Off; }), 3 },
+      { "posture_flow_mirror", "posture_flow, always mirrored training copies",
+        ablation([](PyramidParams& p) { p.mirror = MirrorMode::On; }), 3 },
       { "meanflow", "paper: MEANFLOW", mean, 1 },
       { "sumflow_raw", "paper: SUMFLOW without outlier rejection", raw, 2 },
       { "sumflow", "paper: SUMFLOW", sum, 0 },

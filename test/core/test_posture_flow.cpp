@@ -129,18 +129,20 @@ TEST(TemporalPyramid, SelectsTheParts)
   full.segment<7>(at(layout, 0, 0, 0, 0)) << 1, 2, 3, 4, 5, 6, 7;
   full.segment<7>(at(layout, 2, 1, 0, 0)) << 0.5f, 1, 0, 0, 3, 0, 0;
   PyramidParams all;
+  EXPECT_THROW(selectFrameFeatures(full, layout, all), std::invalid_argument) << "the encoding is not chosen yet";
+  all.flow = FlowEncoding::Bins;
   EXPECT_EQ(selectFrameFeatures(full, layout, all).size(), 511);
   EXPECT_EQ(selectFrameFeatures(full, layout, all).head<7>(), full.head<7>());
-  PyramidParams no_posture;
+  PyramidParams no_posture = all;
   no_posture.posture = false;
   EXPECT_EQ(selectFrameFeatures(full, layout, no_posture).size(), 6 * 73);
   EXPECT_EQ(selectFrameFeatures(full, layout, no_posture)[0], 2.0f);
   PyramidParams sums;
-  sums.direction_histogram = false;
+  sums.flow = FlowEncoding::Sums;
   const Eigen::VectorXf s = selectFrameFeatures(full, layout, sums);
   ASSERT_EQ(s.size(), 4 * 73);
   EXPECT_EQ(s.head<4>(), Eigen::Vector4f(1, -1, -1, -1));  // +x - -x, +y - -y, +z - -z
-  PyramidParams fine;
+  PyramidParams fine = all;
   fine.coarse_to_fine = false;
   const Eigen::VectorXf f = selectFrameFeatures(full, layout, fine);
   ASSERT_EQ(f.size(), 7 * 64);
@@ -232,6 +234,8 @@ TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
   ActionModel m;
   m.params = defaultRecognitionParams();
   m.params.pyramid.c = 0.5;
+  m.params.pyramid.flow = FlowEncoding::Bins;
+  m.params.pyramid.mirror = MirrorMode::Off;
   const Eigen::Index length = m.sequenceLength();
   EXPECT_EQ(length, 511 * 7);
   m.descriptors = Eigen::MatrixXf::Zero(x.rows(), length);

@@ -40,6 +40,8 @@ int main(int argc, char** argv)
     action_flow::ActionModel pf;
     pf.params = action_flow::defaultRecognitionParams();
     pf.params.pyramid.c = 1.0;
+    pf.params.pyramid.flow = action_flow::FlowEncoding::Bins;
+    pf.params.pyramid.mirror = action_flow::MirrorMode::Off;
     pf.descriptors = Eigen::MatrixXf::Zero(2, pf.sequenceLength());
     pf.descriptors.row(1).setConstant(1.0f);
     pf.labels = { "still", "moving" };

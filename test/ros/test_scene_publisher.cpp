@@ -2,6 +2,7 @@
 // the pipeline's input (`cloud`) or directly as the tracker's output (`person_clouds`).
 #include "test_scene.h"
 
+#include <action_flow/ros/input_checks.h>
 #include <action_flow/ros/stage_types.h>
 
 #include <nodelet/nodelet.h>
@@ -40,7 +41,7 @@ class TestScenePublisher : public nodelet::Nodelet
     pnh.param("rate", rate, rate);
     options_.floor = scene_ != "floorless";
     if (output_ == "cloud")
-      pub_ = getNodeHandle().advertise<Cloud>("cloud", 5);
+      pub_ = getNodeHandle().advertise<InputCloud>("cloud", 5);
     else
       pub_ = getNodeHandle().advertise<PeopleClouds>("person_clouds", 5);
     start_ = ros::Time::now();
@@ -60,7 +61,7 @@ class TestScenePublisher : public nodelet::Nodelet
     header.frame_id = frame_id_;
     const float angle = 0.3f + 0.9f * static_cast<float>(std::sin(2.0 * M_PI * wave_hz_ * t));
     if (output_ == "cloud")
-      pub_.publish(sceneCloud(header, angle));
+      pub_.publish(InputCloud::of(sceneCloud(header, angle)));
     else
       pub_.publish(personClouds(header, angle));
     ++frame_;

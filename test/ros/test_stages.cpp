@@ -23,6 +23,7 @@
 #include <action_flow/TrackedPeople.h>
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 using namespace action_flow;
@@ -183,6 +184,145 @@ TEST(Tracker, BadCloudsAreReportedAndTheTrackerKeepsServing)
   EXPECT_TRUE(reset) << "time going back did not reset the tracker";
   const std::size_t before = back.size();
   EXPECT_TRUE(back.waitForCount(before + 3, 5.0)) << "the tracker stopped after time went back";
+}
+
+namespace
+{
+// A good organized scene cloud on the wire, and malformed variants of it as a hostile or broken
+// publisher in another process could send them.
+sensor_msgs::PointCloud2 wireScene(std::uint32_t seq)
+{
+  const Cloud scene = test::renderScene(test::SceneOptions(), 0.5f);
+  sensor_msgs::PointCloud2 m;
+  pcl::toROSMsg(scene, m);
+  m.header.frame_id = "camera_rgb_optical_frame";
+  m.header.stamp = ros::Time(100.0 + 0.1 * seq);
+  return m;
+}
+
+std::vector<sensor_msgs::PointCloud2> malformed(const sensor_msgs::PointCloud2& good)
+{
+  std::vector<sensor_msgs::PointCloud2> out(8, good);
+  out[0].data.resize(good.data.size() + 4096);  // longer than width x height x point_step
+  out[1].data.resize(100);                      // shorter
+  out[2].width = 1000000;                       // claims a huge cloud
+  out[3].point_step = 1u << 28;                 // reads far past each point
+  out[4].row_step += 16;
+  out[5].fields.clear();                        // no x/y/z
+  out[6].fields[0].offset = good.point_step + 8;
+  out[7].height = 0;
+  out[7].width = 0;                             // empty but data left over
+  return out;
+}
+}  // namespace
+
+TEST(Tracker, MalformedWireCloudsAreDroppedAndTheNextGoodOneIsServed)
+{
+  ros::NodeHandle nh;
+  LogWatch dropped(nh, "dropped a malformed point cloud", rosgraph_msgs::Log::ERROR);
+  Collector<TrackedPeople> people(nh, "wire/people");
+  ros::Publisher pub = nh.advertise<sensor_msgs::PointCloud2>("wire/cloud", 50);
+  ASSERT_TRUE(waitForSubscriber(pub));
+  std::uint32_t seq = 0;
+  for (int round = 0; round < 3; ++round)
+    for (const auto& bad : malformed(wireScene(seq++)))
+    {
+      pub.publish(bad);
+      ros::WallDuration(0.02).sleep();
+    }
+  EXPECT_TRUE(waitFor([&] { return dropped.count() > 0; }, 10.0)) << "no error for a malformed cloud";
+  EXPECT_EQ(people.size(), 0u) << "a malformed cloud was tracked";
+  // The manager survived: good clouds are tracked again.
+  EXPECT_TRUE(waitFor(
+      [&] {
+        pub.publish(wireScene(seq++));
+        return people.size() >= 3;
+      },
+      20.0))
+      << "the tracker stopped serving after malformed clouds";
+}
+
+// ---- image guard in front of depth_image_proc ------------------------------------------------------
+namespace
+{
+sensor_msgs::Image testImage(const std::string& encoding, int width, int height, int bytes, const ros::Time& stamp)
+{
+  sensor_msgs::Image m;
+  m.header.stamp = stamp;
+  m.header.frame_id = "camera_rgb_optical_frame";
+  m.encoding = encoding;
+  m.width = width;
+  m.height = height;
+  m.step = width * bytes;
+  m.data.assign(m.step * height, 0);
+  if (encoding == "32FC1")
+    for (std::size_t i = 0; i + 4 <= m.data.size(); i += 4)
+    {
+      const float d = 2.0f;
+      std::memcpy(&m.data[i], &d, 4);
+    }
+  return m;
+}
+
+sensor_msgs::CameraInfo testInfo(const ros::Time& stamp)
+{
+  sensor_msgs::CameraInfo m;
+  m.header.stamp = stamp;
+  m.header.frame_id = "camera_rgb_optical_frame";
+  m.width = 64;
+  m.height = 48;
+  m.K = { 52.5, 0, 31.5, 0, 52.5, 23.5, 0, 0, 1 };
+  m.P = { 52.5, 0, 31.5, 0, 0, 52.5, 23.5, 0, 0, 0, 1, 0 };
+  return m;
+}
+}  // namespace
+
+TEST(ImageGuard, MalformedImagesNeverReachDepthImageProc)
+{
+  ros::NodeHandle nh;
+  LogWatch dropped(nh, "dropped a", rosgraph_msgs::Log::ERROR);
+  Collector<sensor_msgs::PointCloud2> clouds(nh, "points");
+  ros::Publisher rgb = nh.advertise<sensor_msgs::Image>("rgb_in", 20), depth = nh.advertise<sensor_msgs::Image>("depth_in", 20),
+                 info = nh.advertise<sensor_msgs::CameraInfo>("info_in", 20);
+  ASSERT_TRUE(waitForSubscriber(rgb) && waitForSubscriber(depth) && waitForSubscriber(info));
+  double t = 10.0;
+  const auto frame = [&](const sensor_msgs::Image& c, const sensor_msgs::Image& d, const sensor_msgs::CameraInfo& i) {
+    info.publish(i);
+    rgb.publish(c);
+    depth.publish(d);
+    ros::WallDuration(0.03).sleep();
+  };
+  // A good camera_info first, then every kind of bad frame that kills depth_image_proc unguarded.
+  for (int round = 0; round < 2; ++round)
+  {
+    const ros::Time s(t += 0.1);
+    frame(testImage("rgb8", 64, 48, 3, s), testImage("32FC1", 64, 48, 4, s), testInfo(s));
+    sensor_msgs::Image empty = testImage("32FC1", 64, 48, 4, ros::Time(t += 0.1));
+    empty.data.clear();
+    sensor_msgs::Image huge_step = testImage("32FC1", 64, 48, 4, ros::Time(t));
+    huge_step.step = 1u << 30;
+    const ros::Time s2(t += 0.1);
+    frame(testImage("rgb8", 0, 0, 3, s2), empty, testInfo(s2));
+    frame(testImage("rgb8", 64, 48, 3, ros::Time(t)), huge_step, testInfo(ros::Time(t)));
+    const ros::Time s3(t += 0.1);
+    frame(testImage("rgb8", 64, 48, 3, s3), testImage("32FC1", 64, 60, 4, s3), testInfo(s3));  // depth taller
+    sensor_msgs::CameraInfo bad = testInfo(ros::Time(t += 0.1));
+    bad.K[0] = std::nan("");
+    frame(testImage("rgb8", 64, 48, 3, ros::Time(t)), testImage("32FC1", 64, 48, 4, ros::Time(t)), bad);
+  }
+  EXPECT_TRUE(waitFor([&] { return dropped.count() > 0; }, 10.0)) << "no error for a malformed image";
+  // The manager and depth_image_proc survived: good frames become clouds.
+  clouds.clear();
+  EXPECT_TRUE(waitFor(
+      [&] {
+        const ros::Time s(t += 0.1);
+        frame(testImage("rgb8", 64, 48, 3, s), testImage("32FC1", 64, 48, 4, s), testInfo(s));
+        return clouds.size() >= 2;
+      },
+      20.0))
+      << "no cloud from good images after malformed ones";
+  for (const auto& c : clouds.messages())
+    EXPECT_EQ(c->width * c->height, 64u * 48u);
 }
 
 // ---- flow stage alone ----------------------------------------------------------------------------

@@ -2,6 +2,7 @@
 // object a stage built its output from (its `source`) is the very object the previous stage
 // published, as this probe, an in-process subscriber, received it. A copy or a serialization
 // anywhere between two stages makes the pointers differ.
+#include <action_flow/ros/input_checks.h>
 #include <action_flow/ros/stage_types.h>
 
 #include <nodelet/nodelet.h>
@@ -47,7 +48,7 @@ class ZeroCopyProbe : public nodelet::Nodelet
   {
     ros::NodeHandle& nh = getNodeHandle();
     report_ = getPrivateNodeHandle().advertise<std_msgs::String>("report", 1, true);
-    subs_.push_back(nh.subscribe<Cloud>("cloud", 100, [this](const boost::shared_ptr<const Cloud>& m) { clouds_.add(m); }));
+    subs_.push_back(nh.subscribe<InputCloud>("cloud", 100, [this](const InputCloud::ConstPtr& m) { clouds_.add(m->cloud); }));
     subs_.push_back(nh.subscribe<PeopleClouds>("person_clouds", 100, [this](const PeopleClouds::ConstPtr& m) {
       // Without an in-process cloud publisher (person clouds published directly) there is no link to check.
       if (!clouds_.recent.empty())

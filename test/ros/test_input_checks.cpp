@@ -1,0 +1,135 @@
+// The checks of messages entering the manager, on hand-made good and malformed messages; and the
+// InputCloud wire path: a good PointCloud2 becomes the same cloud, a bad one an error and no cloud.
+#include <action_flow/ros/input_checks.h>
+
+#include <gtest/gtest.h>
+#include <pcl_conversions/pcl_conversions.h>
+
+using namespace action_flow;
+
+namespace
+{
+sensor_msgs::PointCloud2 goodCloud(int width = 4, int height = 3)
+{
+  Cloud c(width, height);
+  for (std::size_t i = 0; i < c.size(); ++i)
+  {
+    c[i].x = static_cast<float>(i);
+    c[i].y = 1.0f;
+    c[i].z = 2.0f;
+    c[i].r = 10;
+  }
+  sensor_msgs::PointCloud2 m;
+  pcl::toROSMsg(c, m);
+  return m;
+}
+
+sensor_msgs::Image image(const std::string& encoding, int width, int height, int bytes)
+{
+  sensor_msgs::Image m;
+  m.encoding = encoding;
+  m.width = width;
+  m.height = height;
+  m.step = width * bytes;
+  m.data.resize(m.step * height);
+  return m;
+}
+
+sensor_msgs::CameraInfo info()
+{
+  sensor_msgs::CameraInfo m;
+  m.width = 640;
+  m.height = 480;
+  m.K = { 525, 0, 319.5, 0, 525, 239.5, 0, 0, 1 };
+  m.P = { 525, 0, 319.5, 0, 0, 525, 239.5, 0, 0, 0, 1, 0 };
+  return m;
+}
+
+void expectRefused(const sensor_msgs::PointCloud2& m, const std::string& part)
+{
+  const std::string e = checkPointCloud2(m);
+  EXPECT_NE(e.find(part), std::string::npos) << "expected '" << part << "', got '" << e << "'";
+  InputCloud in;
+  InputCloud::fromWire(m, in);
+  EXPECT_FALSE(in.cloud);
+  EXPECT_EQ(in.error, e);
+}
+}  // namespace
+
+TEST(InputChecks, GoodCloudPassesAndConvertsExactly)
+{
+  const sensor_msgs::PointCloud2 m = goodCloud();
+  EXPECT_EQ(checkPointCloud2(m), "");
+  InputCloud in;
+  InputCloud::fromWire(m, in);
+  ASSERT_TRUE(in.cloud);
+  EXPECT_EQ(in.error, "");
+  EXPECT_EQ(in.cloud->width, 4u);
+  EXPECT_EQ(in.cloud->height, 3u);
+  EXPECT_EQ((*in.cloud)[5].x, 5.0f);
+  EXPECT_EQ((*in.cloud)[5].r, 10);
+}
+
+TEST(InputChecks, EachKindOfMalformedCloudIsRefusedWithItsReason)
+{
+  sensor_msgs::PointCloud2 m = goodCloud();
+  m.data.resize(m.data.size() + 16);
+  expectRefused(m, "bytes of data");
+  m = goodCloud();
+  m.data.resize(100);
+  expectRefused(m, "bytes of data");
+  m = goodCloud();
+  m.width = 10000000;
+  expectRefused(m, "more than the");
+  m = goodCloud();
+  m.point_step = 1u << 30;
+  expectRefused(m, "row_step");
+  m = goodCloud();
+  m.row_step += 4;
+  expectRefused(m, "row_step");
+  m = goodCloud();
+  m.fields.erase(m.fields.begin());  // x
+  expectRefused(m, "has no 'x' field");
+  m = goodCloud();
+  m.fields[1].offset = m.point_step;  // y outside the point
+  expectRefused(m, "outside the point_step");
+  m = goodCloud();
+  m.fields[2].datatype = sensor_msgs::PointField::FLOAT64;
+  expectRefused(m, "not one FLOAT32");
+  m = goodCloud();
+  m.is_bigendian = true;
+  expectRefused(m, "big-endian");
+  m = goodCloud(0, 0);
+  EXPECT_EQ(checkPointCloud2(m), "") << "an empty cloud is well-formed (the tracker reports it empty)";
+}
+
+TEST(InputChecks, ImagesAndCameraInfo)
+{
+  EXPECT_EQ(checkImage(image("rgb8", 640, 480, 3)), "");
+  EXPECT_EQ(checkImage(image("32FC1", 640, 480, 4)), "");
+  EXPECT_NE(checkImage(image("rgb8", 0, 0, 3)).find("pixels"), std::string::npos);
+  EXPECT_NE(checkImage(image("yuv422", 640, 480, 2)).find("encoding"), std::string::npos);
+  sensor_msgs::Image m = image("16UC1", 640, 480, 2);
+  m.data.clear();
+  EXPECT_NE(checkImage(m).find("bytes of data"), std::string::npos);
+  m = image("16UC1", 640, 480, 2);
+  m.step = 1u << 31;
+  EXPECT_NE(checkImage(m).find("step"), std::string::npos);
+  m = image("16UC1", 640, 480, 2);
+  m.step = 100;
+  EXPECT_NE(checkImage(m).find("less than width"), std::string::npos);
+
+  EXPECT_EQ(checkCameraInfo(info()), "");
+  sensor_msgs::CameraInfo i = info();
+  i.K[0] = 0.0;
+  EXPECT_NE(checkCameraInfo(i).find("intrinsics"), std::string::npos);
+  i = info();
+  i.K[4] = std::nan("");
+  EXPECT_NE(checkCameraInfo(i).find("intrinsics"), std::string::npos);
+  i = info();
+  i.P[5] = -1.0;
+  EXPECT_NE(checkCameraInfo(i).find("projection"), std::string::npos);
+  i = info();
+  i.width = 0;
+  EXPECT_NE(checkCameraInfo(i).find("images"), std::string::npos);
+}
