@@ -29,10 +29,13 @@ public:
   /**
    * @brief Trains on one descriptor per row of @p x.
    * @param c the regularisation: larger fits the training set more closely
+   * @param in_span with fewer rows than columns, solve in the rows' span (exact, and far faster);
+   *        false solves over all columns (the reference for the test)
    * @throws std::invalid_argument on an empty set, a size mismatch, non-finite values, c <= 0 or
    *         fewer than 2 labels
    */
-  static LinearClassifier train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels, double c);
+  static LinearClassifier train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels, double c,
+                                bool in_span = true);
 
   /**
    * @brief The most probable label. Classification::confidence is its probability, margin the

@@ -2,6 +2,8 @@
 
 #include <linear.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -29,7 +31,8 @@ LinearClassifier::LinearClassifier(std::vector<std::string> classes, Eigen::Matr
     throw std::invalid_argument("LinearClassifier: non-finite weights");
 }
 
-LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels, double c)
+LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels, double c,
+                                         bool in_span)
 {
   if (x.rows() == 0 || x.rows() != static_cast<Eigen::Index>(labels.size()))
     throw std::invalid_argument("LinearClassifier::train: needs one label per row, and at least one row");
@@ -54,24 +57,44 @@ LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::ve
   const double rms = std::sqrt((x.rowwise() - mean.transpose()).squaredNorm() / static_cast<double>(n * d));
   const Eigen::VectorXf scale = Eigen::VectorXf::Constant(d, rms > 1e-12 ? static_cast<float>(1.0 / rms) : 1.0f);
 
-  // liblinear's problem: every value of every row (the descriptors are dense), 1-based feature
-  // indices, a bias feature, and a terminator per row.
-  std::vector<feature_node> nodes(static_cast<std::size_t>(n * (d + 2)));
+  // With fewer rows than columns (the usual case: a few hundred sequences of a few thousand values)
+  // the problem is solved exactly in the rows' own span: with X = Z V' (V orthonormal, from the
+  // eigenvectors of X X'), the weights w = V u give the same scores as u on Z and the same norm,
+  // and weights outside the span only add to the norm. liblinear then works on n columns, not d.
+  const Eigen::MatrixXd xs = ((x.rowwise() - mean.transpose()) * scale[0]).cast<double>();
+  Eigen::MatrixXd z = xs, basis;  // rows in the span's coordinates; w = basis * u
+  if (in_span && n < d)
+  {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(xs * xs.transpose());
+    const double top = eig.eigenvalues().maxCoeff();
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (eig.eigenvalues()[i] > 1e-10 * top && top > 0.0)
+        keep.push_back(i);
+    const Eigen::VectorXd root = eig.eigenvalues()(keep).cwiseSqrt();
+    z = eig.eigenvectors()(Eigen::all, keep) * root.asDiagonal();
+    basis = xs.transpose() * eig.eigenvectors()(Eigen::all, keep) * root.cwiseInverse().asDiagonal();
+  }
+  const Eigen::Index dz = z.cols();
+
+  // liblinear's problem: every value of every row (dense), 1-based feature indices, a bias
+  // feature, and a terminator per row.
+  std::vector<feature_node> nodes(static_cast<std::size_t>(n * (dz + 2)));
   std::vector<feature_node*> rows(static_cast<std::size_t>(n));
   std::vector<double> y(static_cast<std::size_t>(n));
   for (Eigen::Index i = 0; i < n; ++i)
   {
-    feature_node* row = &nodes[static_cast<std::size_t>(i * (d + 2))];
+    feature_node* row = &nodes[static_cast<std::size_t>(i * (dz + 2))];
     rows[i] = row;
-    for (Eigen::Index j = 0; j < d; ++j)
-      row[j] = { static_cast<int>(j + 1), static_cast<double>((x(i, j) - mean[j]) * scale[j]) };
-    row[d] = { static_cast<int>(d + 1), 1.0 };  // the bias feature
-    row[d + 1] = { -1, 0.0 };
+    for (Eigen::Index j = 0; j < dz; ++j)
+      row[j] = { static_cast<int>(j + 1), z(i, j) };
+    row[dz] = { static_cast<int>(dz + 1), 1.0 };  // the bias feature
+    row[dz + 1] = { -1, 0.0 };
     y[i] = class_index[labels[i]];
   }
   problem prob{};
   prob.l = static_cast<int>(n);
-  prob.n = static_cast<int>(d + 1);
+  prob.n = static_cast<int>(dz + 1);
   prob.y = y.data();
   prob.x = rows.data();
   prob.bias = -1;  // the bias column is already in the rows
@@ -89,15 +112,16 @@ LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::ve
   const int k = get_nr_class(trained.get());
   std::vector<int> ids(static_cast<std::size_t>(k));
   get_labels(trained.get(), ids.data());
-  Eigen::MatrixXf w(static_cast<Eigen::Index>(classes.size()), d);
+  Eigen::MatrixXd u(static_cast<Eigen::Index>(classes.size()), dz);
   Eigen::VectorXf b(static_cast<Eigen::Index>(classes.size()));
   for (int li = 0; li < k; ++li)
   {
     const int row = ids[li];
-    for (Eigen::Index j = 0; j < d; ++j)
-      w(row, j) = static_cast<float>(get_decfun_coef(trained.get(), static_cast<int>(j + 1), li));
-    b[row] = static_cast<float>(get_decfun_coef(trained.get(), static_cast<int>(d + 1), li));
+    for (Eigen::Index j = 0; j < dz; ++j)
+      u(row, j) = get_decfun_coef(trained.get(), static_cast<int>(j + 1), li);
+    b[row] = static_cast<float>(get_decfun_coef(trained.get(), static_cast<int>(dz + 1), li));
   }
+  const Eigen::MatrixXf w = (basis.size() ? Eigen::MatrixXd(u * basis.transpose()) : u).cast<float>();
   return LinearClassifier(classes, w, b, mean, scale);
 }
 

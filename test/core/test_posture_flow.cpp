@@ -226,6 +226,27 @@ TEST(LinearClassifier, LearnsSeparableClassesWithProbabilities)
   EXPECT_THROW(c.classify(Eigen::VectorXf::Zero(4)), std::invalid_argument);
 }
 
+TEST(LinearClassifier, SolvingInTheRowsSpanGivesTheFullSolution)
+{
+  // 30 rows of 200 columns: the span has 30 dimensions.
+  std::mt19937 rng(5);
+  std::normal_distribution<float> noise(0.0f, 1.0f);
+  Eigen::MatrixXf x(30, 200);
+  std::vector<std::string> labels;
+  for (int i = 0; i < 30; ++i)
+  {
+    for (int j = 0; j < 200; ++j)
+      x(i, j) = noise(rng) + (j == i % 3 ? 2.0f : 0.0f);
+    labels.push_back("class" + std::to_string(i % 3));
+  }
+  const LinearClassifier span = LinearClassifier::train(x, labels, 0.1, true);
+  const LinearClassifier full = LinearClassifier::train(x, labels, 0.1, false);
+  EXPECT_LT((span.weights() - full.weights()).norm(), 0.02f * full.weights().norm());
+  EXPECT_LT((span.bias() - full.bias()).norm(), 0.02f * (1.0f + full.bias().norm()));
+  for (int i = 0; i < 30; ++i)
+    EXPECT_LT((span.probabilities(x.row(i).transpose()) - full.probabilities(x.row(i).transpose())).norm(), 0.01f);
+}
+
 TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
 {
   Eigen::MatrixXf x;
