@@ -146,6 +146,9 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
     t.join();
   if (terminal)
     std::fprintf(stderr, "\n");
+  // From here on nothing is half-written (reports are renamed into place): Ctrl-C ends the tool.
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
   if (!error.empty())
     throw std::runtime_error(error);
   if (g_stop)
