@@ -11,7 +11,7 @@ endif()
 add_library(action_flow_tool_support
   src/eval/feature_extractor.cpp src/tools/sample_sources.cpp src/tools/extraction.cpp)
 target_include_directories(action_flow_tool_support SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(action_flow_tool_support action_flow_eval action_flow_tracker action_flow_synth
+target_link_libraries(action_flow_tool_support action_flow_eval action_flow_tracker action_flow_synth action_flow_ros
   ${catkin_LIBRARIES} ${OpenCV_LIBRARIES} pthread)
 
 foreach(tool train evaluate)

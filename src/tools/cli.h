@@ -13,6 +13,13 @@ namespace action_flow
 {
 namespace tools
 {
+/** A bad command line: the tools exit with status 2 (usage) on it, 1 on any other error. */
+class UsageError : public std::invalid_argument
+{
+public:
+  using std::invalid_argument::invalid_argument;
+};
+
 class Args
 {
 public:
@@ -23,18 +30,18 @@ public:
     {
       std::string a = argv[i];
       if (a.rfind("--", 0) != 0)
-        throw std::invalid_argument("unexpected argument '" + a + "'");
+        throw UsageError("unexpected argument '" + a + "'");
       a = a.substr(2);
       if (flags.count(a))
         values_[a] = "1";
       else if (valued.count(a))
       {
         if (i + 1 >= argc)
-          throw std::invalid_argument("option --" + a + " needs a value");
+          throw UsageError("option --" + a + " needs a value");
         values_[a] = argv[++i];
       }
       else
-        throw std::invalid_argument("unknown option --" + a);
+        throw UsageError("unknown option --" + a);
     }
   }
   bool has(const std::string& k) const { return values_.count(k) > 0; }
@@ -57,12 +64,32 @@ public:
     catch (const std::exception&)
     {
     }
-    throw std::invalid_argument("option --" + k + " needs a number, got '" + get(k) + "'");
+    throw UsageError("option --" + k + " needs a number, got '" + get(k) + "'");
+  }
+  /** @brief A whole number in [lo, hi] (decimal digits only); @throws UsageError naming the option otherwise. */
+  long integer(const std::string& k, long def, long lo, long hi) const
+  {
+    if (!has(k))
+      return def;
+    const std::string v = get(k);
+    const bool digits = !v.empty() && v.size() <= 12 &&
+                        v.find_first_not_of("0123456789", v[0] == '-' ? 1 : 0) == std::string::npos && v != "-";
+    const long n = digits ? std::stol(v) : 0;
+    if (!digits || n < lo || n > hi)
+      throw UsageError("option --" + k + " must be a whole number in " + std::to_string(lo) + ".." + std::to_string(hi) +
+                       ", got '" + v + "'");
+    return n;
   }
 
 private:
   std::map<std::string, std::string> values_;
 };
+
+/** The --jobs option: 1..64 threads (default 2). */
+inline int jobsOption(const Args& a)
+{
+  return static_cast<int>(a.integer("jobs", 2, 1, 64));
+}
 
 /** Options naming the method's parameters. */
 inline const std::set<std::string>& methodOptions()
@@ -110,7 +137,7 @@ inline RecognitionParams methodParams(const Args& a)
   p.recognizer = recognizerFromString(a.get("recognizer", toString(p.recognizer)));
   p.pyramid.classifier = pyramidClassifierFromString(a.get("classifier", toString(p.pyramid.classifier)));
   p.pyramid.c = a.number("c", p.pyramid.c);
-  p.pyramid.temporal_levels = static_cast<int>(a.number("temporal-levels", p.pyramid.temporal_levels));
+  p.pyramid.temporal_levels = static_cast<int>(a.integer("temporal-levels", p.pyramid.temporal_levels, 1, 4));
   p.pyramid.posture = !a.has("no-posture");
   if (a.has("no-direction-histogram"))
     p.pyramid.flow = FlowEncoding::Sums;
@@ -121,17 +148,17 @@ inline RecognitionParams methodParams(const Args& a)
     p.pyramid.mirror = MirrorMode::Off;
   if (a.has("mirror"))
     p.pyramid.mirror = MirrorMode::On;
-  if (p.pyramid.c < 0 || p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
-    throw std::invalid_argument("--c must be >= 0 and --temporal-levels in 1..4");
+  if (!(p.pyramid.c >= 0.0 && p.pyramid.c <= 1e6))
+    throw UsageError("option --c must be in 0..1e6 (0: chosen by cross-validation)");
   p.grid.aggregation = aggregationFromString(a.get("descriptor", "sumflow"));
-  p.frames = static_cast<int>(a.number("frames", p.frames));
+  p.frames = static_cast<int>(a.integer("frames", p.frames, 1, 1000));
   p.use_pca = a.has("pca");
   p.pca_variance = a.number("pca-variance", p.pca_variance);
-  p.neighbours = static_cast<int>(a.number("neighbours", p.neighbours));
-  p.flow.k = static_cast<int>(a.number("k", p.flow.k));
+  p.neighbours = static_cast<int>(a.integer("neighbours", p.neighbours, 1, 1000));
+  p.flow.k = static_cast<int>(a.integer("k", p.flow.k, 1, 1000));
   p.flow.reject_outliers = !a.has("no-outlier-rejection");
-  if (p.frames < 1 || p.neighbours < 1 || p.flow.k < 1 || !(p.pca_variance > 0 && p.pca_variance <= 1))
-    throw std::invalid_argument("--frames, --neighbours and --k must be >= 1 and --pca-variance in (0,1]");
+  if (!(p.pca_variance > 0 && p.pca_variance <= 1))
+    throw UsageError("option --pca-variance must be in (0,1]");
   return p;
 }
 

@@ -38,7 +38,8 @@ const char* kUsage =
     "  --sweep N                       the paper's accuracy for 1..N frames, with and without PCA (default 40;\n"
     "                                  0 = none)\n"
     "  --jobs N, --cache DIR           as for train\n"
-    "  --no-plots                      write no pictures\n";
+    "  --no-plots                      write no pictures\n"
+    "  --allow-empty                   as for train\n";
 
 struct Variant
 {
@@ -189,7 +190,7 @@ int main(int argc, char** argv)
     valued.insert(methodOptions().begin(), methodOptions().end());
     addSampleOptions(valued);
     std::set<std::string> flags = methodFlags();
-    flags.insert({ "help", "no-plots" });
+    flags.insert({ "help", "no-plots", "allow-empty" });
     const Args args(argc, argv, flags, valued);
     if (args.has("help") || !args.has("output"))
     {
@@ -198,7 +199,10 @@ int main(int argc, char** argv)
       return args.has("help") ? 0 : 2;
     }
     const auto t0 = std::chrono::steady_clock::now();
+    // Every option is checked before any work starts.
     const RecognitionParams base = methodParams(args);
+    const int jobs = jobsOption(args);
+    const int sweep = static_cast<int>(args.integer("sweep", 40, 0, 200));
     const TrackerParams tracker;
     std::vector<SampleRef> samples = selectSamples(args);
     if (samples.empty())
@@ -254,7 +258,7 @@ int main(int argc, char** argv)
     {
       const auto it = std::find_if(all.begin(), all.end(), [&](const Variant& v) { return v.name == w; });
       if (it == all.end())
-        throw std::invalid_argument("unknown variant '" + w + "'");
+        throw UsageError("unknown variant '" + w + "'");
       variants.push_back(*it);
     }
 
@@ -269,11 +273,12 @@ int main(int argc, char** argv)
     else if (protocol == "cross-subject")
       folds = { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
     else
-      throw std::invalid_argument("unknown protocol '" + protocol + "' (lopo or cross-subject)");
+      throw UsageError("unknown protocol '" + protocol + "' (lopo or cross-subject)");
     std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", samples.size(),
                  uniqueSorted(persons).size(), folds.size(), protocol.c_str());
 
-    const auto frames = extractAll(samples, extractions, tracker, cacheDir(args), static_cast<int>(args.number("jobs", 2)));
+    const auto frames = extractAll(samples, extractions, tracker, cacheDir(args), jobs);
+    refuseEmptySamples(samples, frames[0], args.has("allow-empty"));
     const auto t1 = std::chrono::steady_clock::now();
 
     const auto labelled = [&](std::size_t extraction) {
@@ -307,7 +312,7 @@ int main(int argc, char** argv)
       const auto v0 = std::chrono::steady_clock::now();
       const Confusion c = v.name == "joints" ? jointBaseline(samples, folds, fold_acc)
                                              : runFolds(labelled(v.extraction), folds, v.params, &fold_acc, &fold_pcas,
-                                                        static_cast<int>(args.number("jobs", 2)));
+                                                        jobs);
       double mean_fold = 0.0;
       for (double a : fold_acc)
         mean_fold += a / fold_acc.size();
@@ -327,7 +332,6 @@ int main(int argc, char** argv)
     }
     report["variants"] = results;
 
-    const int sweep = static_cast<int>(args.number("sweep", 40));
     if (sweep > 0)
     {
       json curve = { { "frames", json::array() }, { "sumflow", json::array() }, { "sumflow_pca", json::array() } };
@@ -347,7 +351,7 @@ int main(int argc, char** argv)
     report["timing"] = { { "descriptors_s", std::chrono::duration<double>(t1 - t0).count() },
                          { "classification_s", std::chrono::duration<double>(t2 - t1).count() },
                          { "total_s", std::chrono::duration<double>(t2 - t0).count() },
-                         { "jobs", args.number("jobs", 2) } };
+                         { "jobs", jobs } };
     writeAtomically(dir + "/report.json", report.dump(2) + "\n");
     std::printf("evaluate: report in %s/report.json (%.0f s)\n", dir.c_str(),
                 std::chrono::duration<double>(t2 - t0).count());
@@ -358,6 +362,21 @@ int main(int argc, char** argv)
         throw std::runtime_error("plotting failed: " + cmd);
     }
     return 0;
+  }
+  catch (const UsageError& e)
+  {
+    std::fprintf(stderr, "evaluate: %s (--help lists the options)\n", e.what());
+    return 2;
+  }
+  catch (const Interrupted& e)
+  {
+    std::fprintf(stderr, "evaluate: %s\n", e.what());
+    return 130;
+  }
+  catch (const std::bad_alloc&)
+  {
+    std::fprintf(stderr, "evaluate: out of memory (too many or too large samples for this machine?)\n");
+    return 1;
   }
   catch (const std::exception& e)
   {

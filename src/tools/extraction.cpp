@@ -43,6 +43,19 @@ std::string hex(const std::string& text)
 }
 }  // namespace
 
+void refuseEmptySamples(const std::vector<SampleRef>& samples, const std::vector<SampleFrames>& frames,
+                        bool allow_empty)
+{
+  std::size_t empty = 0, first = 0;
+  for (std::size_t i = 0; i < samples.size() && i < frames.size(); ++i)
+    if (frames[i].descriptors.rows() == 0 && empty++ == 0)
+      first = i;
+  if (empty > 0 && !allow_empty)
+    throw DatasetError(samples[first].where + ": no person was tracked in it long enough for a frame descriptor" +
+                       (empty > 1 ? " (nor in " + std::to_string(empty - 1) + " other samples)" : std::string()) +
+                       "; --allow-empty keeps such samples as still frames");
+}
+
 void installInterruptHandler()
 {
   std::signal(SIGINT, onSignal);
@@ -152,7 +165,7 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
   if (!error.empty())
     throw std::runtime_error(error);
   if (g_stop)
-    throw std::runtime_error("interrupted after " + std::to_string(done.load()) + " of " +
+    throw Interrupted("interrupted after " + std::to_string(done.load()) + " of " +
                              std::to_string(samples.size()) + " samples; their descriptors are cached");
   return out;
 }

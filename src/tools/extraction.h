@@ -7,6 +7,7 @@
 #include <action_flow/evaluation.h>
 #include <action_flow/people_tracker.h>
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,13 @@ namespace action_flow
 {
 namespace tools
 {
+/** Thrown when Ctrl-C stopped the work; the tools exit with 130. */
+class Interrupted : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
 /** A name for the parameters that shape frame descriptors, for cache paths. */
 std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t);
 
@@ -26,6 +34,14 @@ std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t
 std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& samples,
                                                   const std::vector<RecognitionParams>& variants,
                                                   const TrackerParams& tracker, const std::string& cache_dir, int jobs);
+
+/**
+ * Refuses samples in which no person was tracked long enough for one frame descriptor (nothing to
+ * learn from but zeros): @throws DatasetError naming the first such sample and how many there are,
+ * unless @p allow_empty, when they stay as still frames.
+ */
+void refuseEmptySamples(const std::vector<SampleRef>& samples, const std::vector<SampleFrames>& frames,
+                        bool allow_empty);
 
 /** Installs a SIGINT/SIGTERM handler that asks extractAll to stop after the samples in flight. */
 void installInterruptHandler();

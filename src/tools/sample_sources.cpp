@@ -3,6 +3,7 @@
 #include "guarded_bag.h"
 
 #include <action_flow/depth_cloud.h>
+#include <action_flow/ros/input_checks.h>
 
 #include <pcl_conversions/pcl_conversions.h>
 #include <rosbag/bag.h>
@@ -54,6 +55,24 @@ public:
 
   bool next(Cloud& cloud, double& stamp) override
   {
+    try
+    {
+      return nextFrame(cloud, stamp);
+    }
+    catch (const rosbag::BagException& e)  // e.g. a damaged chunk: name the bag
+    {
+      throw DatasetError(path_ + ": cannot read the bag (" + e.what() + ")");
+    }
+    catch (const ros::Exception& e)
+    {
+      throw DatasetError(path_ + ": cannot read a message (" + e.what() + ")");
+    }
+  }
+
+private:
+  // Every message is checked as the live pipeline checks it (input_checks.h) before it is read.
+  bool nextFrame(Cloud& cloud, double& stamp)
+  {
     for (; it_ != view_->end(); ++it_)
     {
       const rosbag::MessageInstance& m = *it_;
@@ -62,6 +81,9 @@ public:
         auto msg = m.instantiate<sensor_msgs::PointCloud2>();
         if (!msg)
           continue;
+        const std::string error = checkPointCloud2(*msg);
+        if (!error.empty())
+          fail(topics_.points, "a point cloud that " + error);
         pcl::fromROSMsg(*msg, cloud);
         stamp = msg->header.stamp.toSec();
         ++it_;
@@ -70,11 +92,19 @@ public:
       const bool is_depth = m.getTopic().rfind(topics_.depth, 0) == 0;
       if (auto info = m.instantiate<sensor_msgs::CameraInfo>())
       {
+        const std::string error = checkCameraInfo(*info);
+        if (!error.empty())
+          fail(topics_.info, "a camera_info that " + error);
         k_.fx = info->K[0], k_.cx = info->K[2], k_.fy = info->K[4], k_.cy = info->K[5];
         have_info_ = true;
       }
       else if (auto img = m.instantiate<sensor_msgs::Image>())
+      {
+        const std::string error = checkImage(*img);
+        if (!error.empty())
+          fail(is_depth ? topics_.depth : topics_.rgb, "an image that " + error);
         is_depth ? readDepth(*img) : readColour(*img);
+      }
       else if (auto jpg = m.instantiate<sensor_msgs::CompressedImage>())
         is_depth ? readDepth(*jpg) : readColour(*jpg);
       if (have_info_ && depth_stamp_ == colour_stamp_ && depth_stamp_ > 0.0)
@@ -90,7 +120,6 @@ public:
     return false;
   }
 
-private:
   [[noreturn]] void fail(const std::string& topic, const std::string& what) const
   {
     throw DatasetError(path_ + ": topic " + topic + ": " + what);
@@ -215,6 +244,7 @@ std::vector<SampleRef> samplesFromIndex(const std::string& index, const BagTopic
     s.action = e.action;
     s.repetition = e.repetition;
     s.fingerprint = "bag:" + e.path + ":" + fileFingerprint(e.path);
+    s.where = e.path;
     const std::string path = e.path;
     s.open = [path, topics]() -> std::unique_ptr<FrameSource> {
       return std::make_unique<BagFrameSource>(path, topics);
@@ -252,7 +282,7 @@ std::vector<SampleRef> selectSamples(const Args& args)
   topics.rgb = args.get("rgb-topic", topics.rgb);
   topics.info = args.get("info-topic", topics.info);
   if (args.has("index") == args.has("synth"))
-    throw std::invalid_argument("give exactly one of --index INDEX.csv and --synth ias|msr");
+    throw UsageError("give exactly one of --index INDEX.csv and --synth ias|msr");
   std::vector<SampleRef> all = args.has("index") ? samplesFromIndex(args.get("index"), topics) : samplesFromSynth(args);
   if (!args.has("actions"))
     return all;
@@ -310,20 +340,20 @@ constexpr const char* kRendererRevision = "synth-r1";
 std::vector<SampleRef> samplesFromSynth(const Args& args)
 {
   const std::string which = args.get("synth");
-  const auto seed = static_cast<std::uint64_t>(args.number("seed", 1));
+  const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1000000000));
   std::vector<synth::SampleSpec> specs;
   if (which == "ias")
-    specs = synth::iasLabSamples(static_cast<int>(args.number("people", 12)),
-                                 static_cast<int>(args.number("repetitions", 3)), seed);
+    specs = synth::iasLabSamples(static_cast<int>(args.integer("people", 12, 1, 1000)),
+                                 static_cast<int>(args.integer("repetitions", 3, 1, 100)), seed);
   else if (which == "msr")
   {
     if (!args.has("msr-dir"))
-      throw std::invalid_argument("--synth msr needs --msr-dir FOLDER (the MSR Action3D skeleton files)");
+      throw UsageError("--synth msr needs --msr-dir FOLDER (the MSR Action3D skeleton files)");
     specs = synth::msrSamples(args.get("msr-dir"), seed);
   }
   else
-    throw std::invalid_argument("--synth must be ias or msr, not '" + which + "'");
-  const int max_frames = static_cast<int>(args.number("max-frames", 0));
+    throw UsageError("--synth must be ias or msr, not '" + which + "'");
+  const int max_frames = static_cast<int>(args.integer("max-frames", 0, 0, 100000));
   std::vector<SampleRef> out;
   for (auto spec : specs)
   {
@@ -334,6 +364,7 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
     s.action = spec.action;
     s.repetition = spec.repetition;
     s.skeleton_file = spec.skeleton_file;
+    s.where = "rendered sample " + s.key;
     s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" +
                     std::to_string(spec.seed) + ":" + std::to_string(max_frames);
     s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };

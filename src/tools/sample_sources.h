@@ -22,6 +22,7 @@ struct SampleRef
   int repetition = 0;
   std::string fingerprint;  // changes when the sample's content would (file size+mtime, renderer version)
   std::string skeleton_file;  // MSR Action3D samples: the skeleton file they were rendered from
+  std::string where;          // for messages: the bag's path, or "rendered <key>"
   std::function<std::unique_ptr<FrameSource>()> open;
 };
 

@@ -15,6 +15,8 @@ namespace
 {
 const char* kUsage =
     "usage: train --output MODEL (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
+    "  --allow-empty                   keep samples in which nobody was tracked (as still frames) instead of\n"
+    "                                  refusing them\n"
     "  --exclude-person P              leave one person out of the training set\n"
     "  --actions a,b,...               train on these actions only\n"
     "  --jobs N                        samples processed in parallel (default 2)\n"
@@ -29,7 +31,7 @@ int main(int argc, char** argv)
     valued.insert(methodOptions().begin(), methodOptions().end());
     addSampleOptions(valued);
     std::set<std::string> flags = methodFlags();
-    flags.insert("help");
+    flags.insert({ "help", "allow-empty" });
     const Args args(argc, argv, flags, valued);
     if (args.has("help") || !args.has("output"))
     {
@@ -38,6 +40,7 @@ int main(int argc, char** argv)
       return args.has("help") ? 0 : 2;
     }
     const RecognitionParams params = methodParams(args);
+    const int jobs = jobsOption(args);
     const TrackerParams tracker;
     std::vector<SampleRef> samples = selectSamples(args);
     if (args.has("exclude-person"))
@@ -52,7 +55,8 @@ int main(int argc, char** argv)
       throw std::invalid_argument("no samples to train on");
     installInterruptHandler();
     std::fprintf(stderr, "train: %zu samples\n", samples.size());
-    const auto frames = extractAll(samples, { params }, tracker, cacheDir(args), static_cast<int>(args.number("jobs", 2)));
+    const auto frames = extractAll(samples, { params }, tracker, cacheDir(args), jobs);
+    refuseEmptySamples(samples, frames[0], args.has("allow-empty"));
     std::vector<LabelledSample> labelled;
     std::vector<std::size_t> rows;
     for (std::size_t i = 0; i < samples.size(); ++i)
@@ -71,6 +75,21 @@ int main(int argc, char** argv)
                   params.pyramid.c > 0 ? "given" : "chosen by cross-validation over the training people",
                   model.params.pyramid.mirror == MirrorMode::On ? "used" : "not used");
     return 0;
+  }
+  catch (const UsageError& e)
+  {
+    std::fprintf(stderr, "train: %s (--help lists the options)\n", e.what());
+    return 2;
+  }
+  catch (const Interrupted& e)
+  {
+    std::fprintf(stderr, "train: %s\n", e.what());
+    return 130;
+  }
+  catch (const std::bad_alloc&)
+  {
+    std::fprintf(stderr, "train: out of memory (too many or too large samples for this machine?)\n");
+    return 1;
   }
   catch (const std::exception& e)
   {

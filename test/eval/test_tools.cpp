@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <sys/wait.h>
 
 namespace
 {
@@ -110,4 +111,33 @@ TEST(Tools, MalformedIndexGivesOneLineNamingTheLine)
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   const Result bad_option = run(kBin + "/evaluate --output x --index i --protocol nonsense");
   EXPECT_NE(bad_option.status, 0);
+}
+
+TEST(Tools, OutOfRangeOptionsAreUsageErrorsNamingTheOption)
+{
+  for (const std::string bad : { "--jobs 100000", "--jobs -3", "--people 0x10", "--max-frames -5", "--sweep 1000000",
+                                 "--frames 10x", "--temporal-levels 9", "--c -1", "--bogus" })
+  {
+    const Result r = run(kBin + "/evaluate --output /nonexistent --synth ias " + bad);
+    EXPECT_EQ(WEXITSTATUS(r.status), 2) << bad << ": " << r.output;
+    const std::string option = bad.substr(0, bad.find(' '));
+    EXPECT_NE(r.output.find(option), std::string::npos) << bad << ": " << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << bad << ": " << r.output;
+  }
+  EXPECT_EQ(WEXITSTATUS(run(kBin + "/train --output /nonexistent --synth ias --jobs 0").status), 2);
+}
+
+TEST(Tools, SampleWithoutATrackedPersonIsRefused)
+{
+  // One frame: nobody can be tracked over it, so there is no frame descriptor to learn from.
+  const std::string d = tempDir("empty");
+  Result r = run(kBin + "/synth --out '" + d + "' --people 2 --repetitions 1 --action wave --frames 1 --quiet");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string index = d + "/ias/index.csv";
+  r = run(kBin + "/train --index '" + index + "' --output '" + d + "/m.model' --cache '" + d + "/cache'");
+  EXPECT_EQ(WEXITSTATUS(r.status), 1) << r.output;
+  EXPECT_NE(r.output.find(".bag: no person was tracked"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--allow-empty"), std::string::npos) << r.output;
+  std::ifstream model(d + "/m.model");
+  EXPECT_FALSE(model.good()) << "a model was written from empty samples";
 }
