@@ -36,6 +36,9 @@ public:
    */
   static LinearClassifier train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels, double c,
                                 bool in_span = true);
+  /** @brief The same for each of @p cs, sharing the standardisation and the span (for model selection). */
+  static std::vector<LinearClassifier> train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
+                                             const std::vector<double>& cs, bool in_span = true);
 
   /**
    * @brief The most probable label. Classification::confidence is its probability, margin the

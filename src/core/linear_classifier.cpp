@@ -34,12 +34,21 @@ LinearClassifier::LinearClassifier(std::vector<std::string> classes, Eigen::Matr
 LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels, double c,
                                          bool in_span)
 {
+  return train(x, labels, std::vector<double>{ c }, in_span).front();
+}
+
+std::vector<LinearClassifier> LinearClassifier::train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
+                                                      const std::vector<double>& cs, bool in_span)
+{
   if (x.rows() == 0 || x.rows() != static_cast<Eigen::Index>(labels.size()))
     throw std::invalid_argument("LinearClassifier::train: needs one label per row, and at least one row");
   if (!x.allFinite())
     throw std::invalid_argument("LinearClassifier::train: non-finite training values");
-  if (!(c > 0.0) || !std::isfinite(c))
-    throw std::invalid_argument("LinearClassifier::train: C must be positive");
+  for (double c : cs)
+    if (!(c > 0.0) || !std::isfinite(c))
+      throw std::invalid_argument("LinearClassifier::train: C must be positive");
+  if (cs.empty())
+    throw std::invalid_argument("LinearClassifier::train: no C given");
   std::vector<std::string> classes = labels;
   std::sort(classes.begin(), classes.end());
   classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
@@ -98,31 +107,36 @@ LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::ve
   prob.y = y.data();
   prob.x = rows.data();
   prob.bias = -1;  // the bias column is already in the rows
-  parameter param{};
-  // The primal solver (trust-region Newton) is deterministic; liblinear's dual solvers draw from rand().
-  param.solver_type = L2R_LR;
-  param.eps = 0.01;
-  param.C = c;
-  set_print_string_function(&quiet);
-  if (const char* error = check_parameter(&prob, &param))
-    throw std::invalid_argument(std::string("LinearClassifier::train: liblinear: ") + error);
-  std::unique_ptr<model, void (*)(model*)> trained(::train(&prob, &param), [](model* m) { free_and_destroy_model(&m); });
-
-  // Read the weights back per label (get_decfun_* handle liblinear's two-label layout).
-  const int k = get_nr_class(trained.get());
-  std::vector<int> ids(static_cast<std::size_t>(k));
-  get_labels(trained.get(), ids.data());
-  Eigen::MatrixXd u(static_cast<Eigen::Index>(classes.size()), dz);
-  Eigen::VectorXf b(static_cast<Eigen::Index>(classes.size()));
-  for (int li = 0; li < k; ++li)
+  std::vector<LinearClassifier> out;
+  for (double c : cs)
   {
-    const int row = ids[li];
-    for (Eigen::Index j = 0; j < dz; ++j)
-      u(row, j) = get_decfun_coef(trained.get(), static_cast<int>(j + 1), li);
-    b[row] = static_cast<float>(get_decfun_coef(trained.get(), static_cast<int>(dz + 1), li));
+    parameter param{};
+    // The primal solver (trust-region Newton) is deterministic; liblinear's dual solvers draw from rand().
+    param.solver_type = L2R_LR;
+    param.eps = 0.01;
+    param.C = c;
+    set_print_string_function(&quiet);
+    if (const char* error = check_parameter(&prob, &param))
+      throw std::invalid_argument(std::string("LinearClassifier::train: liblinear: ") + error);
+    std::unique_ptr<model, void (*)(model*)> trained(::train(&prob, &param), [](model* m) { free_and_destroy_model(&m); });
+
+    // Read the weights back per label (get_decfun_* handle liblinear's two-label layout).
+    const int k = get_nr_class(trained.get());
+    std::vector<int> ids(static_cast<std::size_t>(k));
+    get_labels(trained.get(), ids.data());
+    Eigen::MatrixXd u(static_cast<Eigen::Index>(classes.size()), dz);
+    Eigen::VectorXf b(static_cast<Eigen::Index>(classes.size()));
+    for (int li = 0; li < k; ++li)
+    {
+      const int row = ids[li];
+      for (Eigen::Index j = 0; j < dz; ++j)
+        u(row, j) = get_decfun_coef(trained.get(), static_cast<int>(j + 1), li);
+      b[row] = static_cast<float>(get_decfun_coef(trained.get(), static_cast<int>(dz + 1), li));
+    }
+    const Eigen::MatrixXf w = (basis.size() ? Eigen::MatrixXd(u * basis.transpose()) : u).cast<float>();
+    out.push_back(LinearClassifier(classes, w, b, mean, scale));
   }
-  const Eigen::MatrixXf w = (basis.size() ? Eigen::MatrixXd(u * basis.transpose()) : u).cast<float>();
-  return LinearClassifier(classes, w, b, mean, scale);
+  return out;
 }
 
 Eigen::VectorXf LinearClassifier::probabilities(const Eigen::VectorXf& query) const

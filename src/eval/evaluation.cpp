@@ -303,8 +303,10 @@ Eigen::VectorXf mirroredSequenceOf(const LabelledSample& sample, const ActionMod
 
 // Accuracy on the originals of the people in @p held_out, trained on everyone else's rows (and
 // their mirrored copies, when given).
-double foldAccuracy(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored, const std::vector<std::string>& labels,
-                    const std::vector<std::string>& persons, const std::vector<std::string>& held_out, double c)
+// (for each of @p cs; empty when the fold cannot be used)
+std::vector<double> foldAccuracies(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
+                                   const std::vector<std::string>& labels, const std::vector<std::string>& persons,
+                                   const std::vector<std::string>& held_out, const std::vector<double>& cs)
 {
   std::vector<Eigen::Index> train, test;
   for (std::size_t i = 0; i < labels.size(); ++i)
@@ -314,7 +316,7 @@ double foldAccuracy(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored, c
   for (Eigen::Index i : train)
     train_labels.push_back(labels[i]);
   if (test.empty() || uniqueSorted(train_labels).size() < 2)
-    return -1.0;
+    return {};
   Eigen::MatrixXf xt = x(train, Eigen::all);
   if (mirrored)
   {
@@ -322,11 +324,15 @@ double foldAccuracy(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored, c
     xt.bottomRows(train.size()) = (*mirrored)(train, Eigen::all);
     train_labels.insert(train_labels.end(), train_labels.begin(), train_labels.end());
   }
-  const LinearClassifier classifier = LinearClassifier::train(xt, train_labels, c);
-  int right = 0;
-  for (Eigen::Index i : test)
-    right += classifier.classify(x.row(i).transpose()).label == labels[i];
-  return static_cast<double>(right) / static_cast<double>(test.size());
+  std::vector<double> out;
+  for (const LinearClassifier& classifier : LinearClassifier::train(xt, train_labels, cs))
+  {
+    int right = 0;
+    for (Eigen::Index i : test)
+      right += classifier.classify(x.row(i).transpose()).label == labels[i];
+    out.push_back(static_cast<double>(right) / static_cast<double>(test.size()));
+  }
+  return out;
 }
 }  // namespace
 
@@ -350,25 +356,25 @@ LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirro
   {
     if (m && !mirrored)
       throw std::invalid_argument("chooseLinear: mirrored copies are an option but none were given");
-    for (double c : c_options)
+    std::vector<double> sum(c_options.size(), 0.0);
+    int used = 0;
+    for (int f = 0; f < k; ++f)
     {
-      double sum = 0.0;
-      int used = 0;
-      for (int f = 0; f < k; ++f)
-      {
-        std::vector<std::string> held_out;
-        for (std::size_t p = f; p < people.size(); p += k)
-          held_out.push_back(people[p]);
-        const double a = foldAccuracy(x, m ? mirrored : nullptr, labels, persons, held_out, c);
-        if (a >= 0.0)
-        {
-          sum += a;
-          ++used;
-        }
-      }
-      const double mean = used > 0 ? sum / used : 0.0;
+      std::vector<std::string> held_out;
+      for (std::size_t p = f; p < people.size(); p += k)
+        held_out.push_back(people[p]);
+      const std::vector<double> a = foldAccuracies(x, m ? mirrored : nullptr, labels, persons, held_out, c_options);
+      if (a.empty())
+        continue;
+      for (std::size_t i = 0; i < a.size(); ++i)
+        sum[i] += a[i];
+      ++used;
+    }
+    for (std::size_t i = 0; i < c_options.size(); ++i)
+    {
+      const double mean = used > 0 ? sum[i] / used : 0.0;
       if (mean > best.score + 1e-9)  // ties keep the earlier option: no mirror, the smaller C
-        best = { c, m, mean };
+        best = { c_options[i], m, mean };
     }
   }
   return best;
