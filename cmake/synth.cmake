@@ -8,7 +8,7 @@ add_library(action_flow_synth
   src/synth/motion.cpp
   src/synth/samples.cpp
 )
-target_link_libraries(action_flow_synth ${PCL_LIBRARIES})
+target_link_libraries(action_flow_synth action_flow_core ${PCL_LIBRARIES})
 
 # Bag writing and image encoding, shared by the executable and its tests.
 add_library(action_flow_synth_bag src/tools/synth_bag.cpp)

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Plays one bag through the nodelet pipeline as a user would (roslaunch action_flow bag.launch)
-and prints the first action label it publishes: "<label> <distance> <margin>".
+and prints the first action label it publishes: "<label> <confidence> <margin>".
 
 usage: label_bag.py BAG MODEL [--input images|cloud] [--port PORT] [--timeout SECONDS]
 
@@ -40,7 +40,7 @@ def main():
     def read():
         for line in proc.stdout:
             log.append(line)
-            for key in ("label", "distance", "margin"):
+            for key in ("label", "confidence", "margin"):
                 m = re.match(rf'^{key}: "?([^"\n]*)"?\s*$', line.strip())
                 if m and key not in found:
                     found[key] = m.group(1)
@@ -61,7 +61,7 @@ def main():
     if "margin" not in found:
         tail = "".join(log[-15:])
         sys.exit(f"label_bag: no label for '{args.bag}' within {args.timeout:.0f} s; launch output ended with:\n{tail}")
-    print(found["label"], found["distance"], found["margin"])
+    print(found["label"], found["confidence"], found["margin"])
 
 
 if __name__ == "__main__":

@@ -1,5 +1,6 @@
 #include <action_flow/action_model.h>
 
+#include <action_flow/files.h>
 #include <action_flow/posture_flow.h>
 #include <action_flow/sequence_descriptor.h>
 
@@ -333,6 +334,9 @@ void ActionModel::save(const std::string& path) const
 
 ActionModel ActionModel::load(const std::string& path)
 {
+  const std::string why = whyNotARegularFile(path);
+  if (!why.empty())
+    throw ModelError("model file '" + path + "': " + why);
   std::ifstream f(path, std::ios::binary);
   if (!f)
     throw ModelError("model file '" + path + "': cannot open (missing or unreadable)");

@@ -1,5 +1,6 @@
 #include <action_flow/evaluation.h>
 
+#include <action_flow/files.h>
 #include <action_flow/posture_flow.h>
 #include <action_flow/sequence_descriptor.h>
 
@@ -38,12 +39,6 @@ std::vector<std::string> splitCsv(const std::string& line)
   return out;
 }
 
-bool fileExists(const std::string& path)
-{
-  struct stat st;
-  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
-}
-
 std::string folderOf(const std::string& path)
 {
   const auto slash = path.find_last_of('/');
@@ -68,6 +63,9 @@ int toInt(const std::string& s, const std::string& where, const char* column)
 
 std::vector<IndexEntry> readIndex(const std::string& path, const std::vector<std::string>& known_actions)
 {
+  const std::string why = whyNotARegularFile(path);
+  if (!why.empty())
+    throw DatasetError(path + ": dataset index " + why);
   std::ifstream f(path);
   if (!f)
     throw DatasetError(path + ": cannot open dataset index");
@@ -116,8 +114,9 @@ std::vector<IndexEntry> readIndex(const std::string& path, const std::vector<std
     e.frames = toInt(fields[col[4]], where, "frames");
     if (!known_actions.empty() && std::find(known_actions.begin(), known_actions.end(), e.action) == known_actions.end())
       throw DatasetError(where + ": unknown action '" + e.action + "'");
-    if (!fileExists(e.path))
-      throw DatasetError(where + ": sample file '" + e.path + "' does not exist");
+    const std::string sample_why = whyNotARegularFile(e.path);
+    if (!sample_why.empty())
+      throw DatasetError(where + ": sample file '" + e.path + "' " + sample_why);
     if (!seen.insert(e.person + "/" + e.action + "/" + std::to_string(e.repetition)).second)
       throw DatasetError(where + ": duplicate sample (person " + e.person + ", action " + e.action + ", repetition " +
                          std::to_string(e.repetition) + ")");

@@ -1,4 +1,5 @@
 // The OpenNI joint names and the MSR Action3D skeleton file parser.
+#include <action_flow/files.h>
 #include <action_flow/synth/skeleton.h>
 
 #include <cmath>
@@ -34,6 +35,9 @@ int MsrSkeletonFile::trackedFrames() const
 
 MsrSkeletonFile parseMsrSkeletonFile(const std::string& path)
 {
+  const std::string why = whyNotARegularFile(path);
+  if (!why.empty())
+    throw std::runtime_error(path + ": " + why);
   std::ifstream in(path);
   if (!in)
     throw std::runtime_error(path + ": cannot open");

@@ -4,7 +4,10 @@
 
 #include <action_flow/action_model.h>
 
+#include <cstdio>
+#include <functional>
 #include <map>
+#include <new>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -19,6 +22,45 @@ class UsageError : public std::invalid_argument
 public:
   using std::invalid_argument::invalid_argument;
 };
+
+/** Thrown when Ctrl-C stopped the work; the tools exit with 130. */
+class Interrupted : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/**
+ * Runs a tool's main body and turns what it throws into one line on stderr, "<tool>: <what>", and
+ * the tools' exit codes: 0 done, 1 error, 2 usage, 130 interrupted.
+ */
+inline int runTool(const char* tool, const std::function<int()>& body)
+{
+  try
+  {
+    return body();
+  }
+  catch (const UsageError& e)
+  {
+    std::fprintf(stderr, "%s: %s (--help lists the options)\n", tool, e.what());
+    return 2;
+  }
+  catch (const Interrupted& e)
+  {
+    std::fprintf(stderr, "%s: %s\n", tool, e.what());
+    return 130;
+  }
+  catch (const std::bad_alloc&)
+  {
+    std::fprintf(stderr, "%s: out of memory (too many or too large samples for this machine?)\n", tool);
+    return 1;
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "%s: %s\n", tool, e.what());
+    return 1;
+  }
+}
 
 class Args
 {

@@ -183,8 +183,7 @@ std::string plotScript()
 
 int main(int argc, char** argv)
 {
-  try
-  {
+  return runTool("evaluate", [&]() -> int {
     std::set<std::string> valued = { "output", "index", "jobs", "cache", "protocol", "train-persons", "variants",
                                      "sweep" };
     valued.insert(methodOptions().begin(), methodOptions().end());
@@ -362,25 +361,5 @@ int main(int argc, char** argv)
         throw std::runtime_error("plotting failed: " + cmd);
     }
     return 0;
-  }
-  catch (const UsageError& e)
-  {
-    std::fprintf(stderr, "evaluate: %s (--help lists the options)\n", e.what());
-    return 2;
-  }
-  catch (const Interrupted& e)
-  {
-    std::fprintf(stderr, "evaluate: %s\n", e.what());
-    return 130;
-  }
-  catch (const std::bad_alloc&)
-  {
-    std::fprintf(stderr, "evaluate: out of memory (too many or too large samples for this machine?)\n");
-    return 1;
-  }
-  catch (const std::exception& e)
-  {
-    std::fprintf(stderr, "evaluate: %s\n", e.what());
-    return 1;
-  }
+  });
 }

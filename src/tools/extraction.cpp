@@ -1,5 +1,7 @@
 #include "extraction.h"
 
+#include "cli.h"
+
 #include <atomic>
 #include <chrono>
 #include <csignal>

@@ -15,13 +15,6 @@ namespace action_flow
 {
 namespace tools
 {
-/** Thrown when Ctrl-C stopped the work; the tools exit with 130. */
-class Interrupted : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
-
 /** A name for the parameters that shape frame descriptors, for cache paths. */
 std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t);
 

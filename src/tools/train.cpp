@@ -25,8 +25,7 @@ const char* kUsage =
 
 int main(int argc, char** argv)
 {
-  try
-  {
+  return runTool("train", [&]() -> int {
     std::set<std::string> valued = { "output", "index", "jobs", "cache", "exclude-person" };
     valued.insert(methodOptions().begin(), methodOptions().end());
     addSampleOptions(valued);
@@ -75,25 +74,5 @@ int main(int argc, char** argv)
                   params.pyramid.c > 0 ? "given" : "chosen by cross-validation over the training people",
                   model.params.pyramid.mirror == MirrorMode::On ? "used" : "not used");
     return 0;
-  }
-  catch (const UsageError& e)
-  {
-    std::fprintf(stderr, "train: %s (--help lists the options)\n", e.what());
-    return 2;
-  }
-  catch (const Interrupted& e)
-  {
-    std::fprintf(stderr, "train: %s\n", e.what());
-    return 130;
-  }
-  catch (const std::bad_alloc&)
-  {
-    std::fprintf(stderr, "train: out of memory (too many or too large samples for this machine?)\n");
-    return 1;
-  }
-  catch (const std::exception& e)
-  {
-    std::fprintf(stderr, "train: %s\n", e.what());
-    return 1;
-  }
+  });
 }

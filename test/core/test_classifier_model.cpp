@@ -2,6 +2,7 @@
 #include <action_flow/action_model.h>
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cstdio>
 #include <fstream>
@@ -187,7 +188,7 @@ TEST(ActionModel, RejectsEachKindOfBadFile)
   smallModel().save(path);
   const std::string good = readAll(path);
 
-  expectRejected(tempPath("does_not_exist.model"), "cannot open");
+  expectRejected(tempPath("does_not_exist.model"), "does not exist");
 
   writeAll(path, good.substr(0, good.size() / 2));
   expectRejected(path, "truncated");
@@ -239,4 +240,16 @@ TEST(ActionModel, RefusesToSaveInconsistentModel)
   ActionModel m = smallModel();
   m.labels.pop_back();
   EXPECT_THROW(m.save(tempPath("inconsistent.model")), ModelError);
+}
+
+TEST(ActionModel, OnlyARegularFileIsReadAsAModel)
+{
+  const std::string dir = ::testing::TempDir() + "action_flow_model_dir";
+  ::mkdir(dir.c_str(), 0755);
+  expectRejected(dir, "is a directory");
+  const std::string fifo = ::testing::TempDir() + "action_flow_model_fifo";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
+  expectRejected(fifo, "not a regular file");  // and returns at once: nothing opens the FIFO
+  std::remove(fifo.c_str());
 }

@@ -538,7 +538,7 @@ TEST(Classifier, MissingCorruptOrMismatchedModelIsReportedAndTheRestRuns)
   {
     std::string name, expect;
   };
-  const std::vector<Case> cases = { { "missing", "missing or unreadable" },
+  const std::vector<Case> cases = { { "missing", "does not exist" },
                                     { "corrupt", "checksum mismatch" },
                                     { "mismatch", "frames: model 30, runtime 20" } };
   std::vector<std::unique_ptr<Collector<ActionStates>>> states;
