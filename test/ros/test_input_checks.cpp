@@ -3,6 +3,7 @@
 #include <action_flow/ros/input_checks.h>
 
 #include <gtest/gtest.h>
+#include <random>
 #include <pcl_conversions/pcl_conversions.h>
 
 using namespace action_flow;
@@ -132,4 +133,69 @@ TEST(InputChecks, ImagesAndCameraInfo)
   i = info();
   i.width = 0;
   EXPECT_NE(checkCameraInfo(i).find("images"), std::string::npos);
+}
+
+namespace
+{
+// A random mutation of a good message's header and data length, as a fuzzer would make it.
+sensor_msgs::PointCloud2 mutatedCloud(const sensor_msgs::PointCloud2& good, std::mt19937& rng)
+{
+  sensor_msgs::PointCloud2 m = good;
+  std::uniform_int_distribution<int> what(0, 9);
+  const auto big = [&]() { return std::uniform_int_distribution<std::uint32_t>(0, 1u << 31)(rng); };
+  const auto small = [&]() { return std::uniform_int_distribution<std::uint32_t>(0, 64)(rng); };
+  for (int k = 0, n = 1 + what(rng) % 3; k < n; ++k)
+    switch (what(rng))
+    {
+      case 0: m.width = what(rng) < 5 ? big() : small(); break;
+      case 1: m.height = what(rng) < 5 ? big() : small(); break;
+      case 2: m.point_step = what(rng) < 5 ? big() : small(); break;
+      case 3: m.row_step = what(rng) < 5 ? big() : small(); break;
+      case 4: m.data.resize(std::uniform_int_distribution<std::size_t>(0, 2 * good.data.size())(rng)); break;
+      case 5:
+        if (!m.fields.empty())
+          m.fields[what(rng) % m.fields.size()].offset = what(rng) < 5 ? big() : small();
+        break;
+      case 6:
+        if (!m.fields.empty())
+          m.fields[what(rng) % m.fields.size()].datatype = static_cast<std::uint8_t>(what(rng));
+        break;
+      case 7: m.fields.resize(what(rng) % (m.fields.size() + 1)); break;
+      case 8: m.is_bigendian = !m.is_bigendian; break;
+      default:
+        if (!m.fields.empty())
+          m.fields[what(rng) % m.fields.size()].count = small();
+    }
+  return m;
+}
+}  // namespace
+
+// A bounded fuzz corpus: 20,000 mutated headers. Each is refused with a reason or converts to a
+// cloud of exactly its declared size; none crashes, reads out of bounds or allocates beyond it.
+TEST(InputChecks, FuzzedCloudHeadersNeverGetPastTheCheckWrong)
+{
+  std::mt19937 rng(2026);
+  const sensor_msgs::PointCloud2 good = goodCloud(8, 6);
+  int refused = 0, converted = 0;
+  for (int i = 0; i < 20000; ++i)
+  {
+    const sensor_msgs::PointCloud2 m = mutatedCloud(good, rng);
+    InputCloud in;
+    InputCloud::fromWire(m, in);
+    if (in.cloud)
+    {
+      ++converted;
+      ASSERT_EQ(in.error, "");
+      ASSERT_EQ(static_cast<std::uint64_t>(in.cloud->size()), static_cast<std::uint64_t>(m.width) * m.height);
+      ASSERT_EQ(m.data.size(), static_cast<std::size_t>(m.row_step) * m.height);
+    }
+    else
+    {
+      ++refused;
+      ASSERT_FALSE(in.error.empty());
+    }
+  }
+  EXPECT_GT(refused, 10000);
+  EXPECT_GT(converted, 0) << "some mutations (of unused fields) are harmless and must pass";
+  std::printf("fuzzed clouds: %d refused, %d converted\n", refused, converted);
 }
