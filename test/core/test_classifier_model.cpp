@@ -2,6 +2,7 @@
 #include <action_flow/action_model.h>
 
 #include <gtest/gtest.h>
+#include <boost/crc.hpp>
 #include <sys/stat.h>
 
 #include <cstdio>
@@ -252,4 +253,37 @@ TEST(ActionModel, OnlyARegularFileIsReadAsAModel)
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0644), 0);
   expectRejected(fifo, "not a regular file");  // and returns at once: nothing opens the FIFO
   std::remove(fifo.c_str());
+}
+
+// A file of format version 1 (before posture_flow: no recognizer and no linear classifier in it)
+// still loads, as the paper's recognizer. It is made here from a version 2 file by taking out
+// what version 2 added: the 24 bytes of posture_flow parameters after the paper's 71 bytes, and
+// the empty linear classifier at the end (a count and four empty matrices, 72 bytes).
+TEST(ActionModel, VersionOneFileLoadsAsThePapersRecognizer)
+{
+  const ActionModel m = smallModel();
+  const std::string path = tempPath("v1.model");
+  m.save(path);
+  const std::string v2 = readAll(path);
+  const std::size_t head = 8 + 4 + 8 + 4;
+  std::string payload = v2.substr(head);
+  payload.erase(71, 24);
+  payload.erase(payload.size() - 72);
+  boost::crc_32_type crc;
+  crc.process_bytes(payload.data(), payload.size());
+  const std::uint32_t version = 1, checksum = crc.checksum();
+  const std::uint64_t size = payload.size();
+  std::string v1 = v2.substr(0, 8);
+  v1.append(reinterpret_cast<const char*>(&version), 4);
+  v1.append(reinterpret_cast<const char*>(&size), 8);
+  v1.append(reinterpret_cast<const char*>(&checksum), 4);
+  v1 += payload;
+  writeAll(path, v1);
+  const ActionModel back = ActionModel::load(path);
+  EXPECT_EQ(back.params.recognizer, Recognizer::Paper);
+  EXPECT_EQ(back.params.frames, 3);
+  EXPECT_EQ(back.params.flow.k, 40);
+  EXPECT_EQ(back.descriptors, m.descriptors);
+  EXPECT_EQ(back.labels, m.labels);
+  std::remove(path.c_str());
 }
