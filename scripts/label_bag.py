@@ -1,6 +1,9 @@
 #!/usr/bin/python3
 """Plays one bag through the nodelet pipeline as a user would (roslaunch action_flow bag.launch)
-and prints the first action label it publishes: "<label> <confidence> <margin>".
+and prints the label of the person it saw longest: "<label> <confidence> <margin>". The labels of
+every track that ends come within a few seconds of each other at the end of the input; of those,
+the one with the longest window wins (a short second track, e.g. the tracker splitting a moving
+arm off for a while, does not speak for the performer).
 
 usage: label_bag.py BAG MODEL [--input images|cloud] [--port PORT] [--timeout SECONDS]
 
@@ -34,22 +37,38 @@ def main():
            f"model:={args.model}", f"input:={args.input}", "mode:=segmented", "echo_labels:=true"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
                             start_new_session=True)
-    found = {}
+    labels = []  # one dict per ActionLabel echoed: label, confidence, margin, duration
     log = []
+    first = []   # when the first label came (monotonic seconds)
 
     def read():
+        current, stamp = {}, None
         for line in proc.stdout:
             log.append(line)
+            s = line.strip()
+            if s in ("window_start:", "window_end:"):
+                stamp = s[:-1]
+                continue
+            m = re.match(r'^(secs|nsecs): (\d+)$', s)
+            if m and stamp:
+                current[stamp] = current.get(stamp, 0.0) + int(m.group(2)) * (1e-9 if m.group(1) == "nsecs" else 1.0)
+                continue
             for key in ("label", "confidence", "margin"):
-                m = re.match(rf'^{key}: "?([^"\n]*)"?\s*$', line.strip())
-                if m and key not in found:
-                    found[key] = m.group(1)
-            if "margin" in found:
-                return
+                m = re.match(rf'^{key}: "?([^"\n]*)"?\s*$', s)
+                if m:
+                    current[key] = m.group(1)
+            if s == "---" and "margin" in current:
+                current["duration"] = current.get("window_end", 0.0) - current.get("window_start", 0.0)
+                labels.append(current)
+                if not first:
+                    first.append(time.monotonic())
+                current, stamp = {}, None
 
     reader = threading.Thread(target=read, daemon=True)
     reader.start()
-    reader.join(args.timeout)
+    deadline = time.monotonic() + args.timeout
+    while reader.is_alive() and time.monotonic() < deadline and not (first and time.monotonic() > first[0] + 4.0):
+        time.sleep(0.1)
     try:
         os.killpg(proc.pid, signal.SIGINT)
         proc.wait(timeout=20)
@@ -58,9 +77,10 @@ def main():
             os.killpg(proc.pid, signal.SIGKILL)
         except ProcessLookupError:
             pass
-    if "margin" not in found:
+    if not labels:
         tail = "".join(log[-15:])
         sys.exit(f"label_bag: no label for '{args.bag}' within {args.timeout:.0f} s; launch output ended with:\n{tail}")
+    found = max(labels, key=lambda l: l["duration"])
     print(found["label"], found["confidence"], found["margin"])
 
 
