@@ -202,6 +202,19 @@ private:
     info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(info_topic_, 5);
     states_sub_ = nh.subscribe("states", 100, &BenchPlayerNodelet::onStates, this);
     labels_sub_ = nh.subscribe("labels", 100, &BenchPlayerNodelet::onLabel, this);
+    // Opened here and closed at unload, never on the player's thread: rosbag::Bag loads and unloads
+    // its encryption plugin through class_loader, which crashed (SIGSEGV in unloadLibrary) when that
+    // ran while the manager was loading the other nodelets.
+    for (const auto& path : bag_paths_)
+      try
+      {
+        bags_.push_back(std::make_unique<rosbag::Bag>(path, rosbag::bagmode::Read));
+      }
+      catch (const std::exception& e)
+      {
+        NODELET_ERROR("bench_player: cannot open bag '%s': %s", path.c_str(), e.what());
+        bags_.push_back(nullptr);
+      }
     thread_ = std::thread([this] { run(); });
   }
 
@@ -210,13 +223,15 @@ private:
   /** Loads up to max_bag_frames frames that have all three topics with one stamp. */
   bool loadBags()
   {
-    for (const auto& path : bag_paths_)
+    for (std::size_t b = 0; b < bag_paths_.size(); ++b)
     {
+      const std::string& path = bag_paths_[b];
+      if (!bags_[b])
+        return false;
       std::map<ros::Time, Frame> partial;
       try
       {
-        rosbag::Bag bag(path, rosbag::bagmode::Read);
-        rosbag::View view(bag, rosbag::TopicQuery({ rgb_topic_, depth_topic_, info_topic_ }));
+        rosbag::View view(*bags_[b], rosbag::TopicQuery({ rgb_topic_, depth_topic_, info_topic_ }));
         if (view.size() == 0)
         {
           NODELET_ERROR("bench_player: bag '%s' has none of the topics %s, %s, %s (raw images: synth --raw-images)",
@@ -675,6 +690,7 @@ private:
 
   // parameters
   std::vector<std::string> bag_paths_;
+  std::vector<std::unique_ptr<rosbag::Bag>> bags_;  // opened in onInit, closed at unload (see there)
   std::string rgb_topic_ = "/camera/rgb/image_color";
   std::string depth_topic_ = "/camera/depth_registered/image_raw";
   std::string info_topic_ = "/camera/rgb/camera_info";

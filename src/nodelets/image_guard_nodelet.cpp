@@ -24,6 +24,10 @@ class ImageGuardNodelet : public nodelet::Nodelet
   {
     ros::NodeHandle& nh = getNodeHandle();
     const auto cb = [this](const ros::SingleSubscriberPublisher&) { update(); };
+    // Resolved once: the callbacks must not read the subscribers, which update() may be assigning.
+    rgb_topic_ = nh.resolveName("rgb/image_in");
+    depth_topic_ = nh.resolveName("depth/image_in");
+    info_topic_ = nh.resolveName("rgb/camera_info_in");
     std::lock_guard<std::mutex> lock(mutex_);
     rgb_pub_ = nh.advertise<sensor_msgs::Image>("rgb/image", 5, cb, cb);
     depth_pub_ = nh.advertise<sensor_msgs::Image>("depth/image", 5, cb, cb);
@@ -61,7 +65,7 @@ class ImageGuardNodelet : public nodelet::Nodelet
     const std::string error = checkCameraInfo(*m);
     if (!error.empty())
     {
-      NODELET_ERROR_THROTTLE(5, "dropped a camera_info on %s: it %s", info_sub_.getTopic().c_str(), error.c_str());
+      NODELET_ERROR_THROTTLE(5, "dropped a camera_info on %s: it %s", info_topic_.c_str(), error.c_str());
       return;
     }
     {
@@ -95,7 +99,7 @@ class ImageGuardNodelet : public nodelet::Nodelet
     if (!error.empty())
     {
       NODELET_ERROR_THROTTLE(5, "dropped a %s image on %s: it %s", depth ? "depth" : "colour",
-                             (depth ? depth_sub_ : rgb_sub_).getTopic().c_str(), error.c_str());
+                             (depth ? depth_topic_ : rgb_topic_).c_str(), error.c_str());
       return;
     }
     (depth ? depth_pub_ : rgb_pub_).publish(m);
@@ -104,6 +108,7 @@ class ImageGuardNodelet : public nodelet::Nodelet
   std::mutex mutex_, size_mutex_;
   bool subscribed_ = false;
   std::uint32_t width_ = 0, height_ = 0;
+  std::string rgb_topic_, depth_topic_, info_topic_;
   ros::Publisher rgb_pub_, depth_pub_, info_pub_;
   ros::Subscriber rgb_sub_, depth_sub_, info_sub_;
 };
