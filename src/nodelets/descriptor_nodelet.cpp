@@ -48,7 +48,11 @@ class DescriptorNodelet : public LazyNodelet
       d.head.x = head.x();
       d.head.y = head.y();
       d.head.z = head.z();
-      if (person.status == PeopleFlow::kFlow && person.flow)
+      const bool needs_cloud = params_.recognizer == Recognizer::PostureFlow;
+      if (person.status == PeopleFlow::kFlow && person.flow && needs_cloud && (!person.cloud || person.cloud->empty()))
+        NODELET_WARN_THROTTLE(5, "track %u: flow without the person's cloud, which posture_flow needs: no descriptor",
+                              person.info.id);
+      else if (person.status == PeopleFlow::kFlow && person.flow)
       {
         const Eigen::VectorXf v =
             frameDescriptor(params_, person.cloud ? *person.cloud : Cloud(), *person.flow, person.info.frame);
