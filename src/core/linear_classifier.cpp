@@ -37,6 +37,86 @@ LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::ve
   return train(x, labels, std::vector<double>{ c }, in_span).front();
 }
 
+namespace
+{
+// The rows in the coordinates of their own span: with X = Z V' (V orthonormal, from the
+// eigenvectors of X X'), the weights w = V u give the same scores as u on Z and the same norm, and
+// weights outside the span only add to the norm; so with fewer rows than columns (a few hundred
+// sequences of a few thousand values) liblinear can work on n columns, not d, exactly.
+// @p basis is V (empty when the rows are used as they are).
+Eigen::MatrixXd inSpan(const Eigen::MatrixXd& xs, Eigen::MatrixXd& basis)
+{
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(xs * xs.transpose());
+  const double top = eig.eigenvalues().maxCoeff();
+  std::vector<Eigen::Index> keep;
+  for (Eigen::Index i = 0; i < xs.rows(); ++i)
+    if (eig.eigenvalues()[i] > 1e-10 * top && top > 0.0)
+      keep.push_back(i);
+  const Eigen::VectorXd root = eig.eigenvalues()(keep).cwiseSqrt();
+  basis = xs.transpose() * eig.eigenvectors()(Eigen::all, keep) * root.cwiseInverse().asDiagonal();
+  return eig.eigenvectors()(Eigen::all, keep) * root.asDiagonal();
+}
+
+// liblinear's problem over the rows of @p z: every value (dense), 1-based feature indices, a
+// bias feature, and a terminator per row. The vectors own the memory the problem points into.
+struct LiblinearProblem
+{
+  std::vector<feature_node> nodes;
+  std::vector<feature_node*> rows;
+  std::vector<double> y;
+  problem prob{};
+
+  LiblinearProblem(const Eigen::MatrixXd& z, const std::vector<int>& classes_of_rows)
+    : nodes(static_cast<std::size_t>(z.rows() * (z.cols() + 2))), rows(z.rows()), y(z.rows())
+  {
+    const Eigen::Index n = z.rows(), dz = z.cols();
+    for (Eigen::Index i = 0; i < n; ++i)
+    {
+      feature_node* row = &nodes[static_cast<std::size_t>(i * (dz + 2))];
+      rows[i] = row;
+      for (Eigen::Index j = 0; j < dz; ++j)
+        row[j] = { static_cast<int>(j + 1), z(i, j) };
+      row[dz] = { static_cast<int>(dz + 1), 1.0 };  // the bias feature
+      row[dz + 1] = { -1, 0.0 };
+      y[i] = classes_of_rows[i];
+    }
+    prob.l = static_cast<int>(n);
+    prob.n = static_cast<int>(dz + 1);
+    prob.y = y.data();
+    prob.x = rows.data();
+    prob.bias = -1;  // the bias column is already in the rows
+  }
+};
+
+// One liblinear solve at @p c: the weights per class (in the span's coordinates) and the biases.
+void solve(problem& prob, double c, std::size_t classes, Eigen::MatrixXd& u, Eigen::VectorXf& b)
+{
+  parameter param{};
+  // The primal solver (trust-region Newton) is deterministic; liblinear's dual solvers draw from rand().
+  param.solver_type = L2R_LR;
+  param.eps = 0.01;
+  param.C = c;
+  set_print_string_function(&quiet);
+  if (const char* error = check_parameter(&prob, &param))
+    throw std::invalid_argument(std::string("LinearClassifier::train: liblinear: ") + error);
+  std::unique_ptr<model, void (*)(model*)> trained(::train(&prob, &param), [](model* m) { free_and_destroy_model(&m); });
+  // Read the weights back per label (get_decfun_* handle liblinear's two-label layout).
+  const int k = get_nr_class(trained.get());
+  const int dz = prob.n - 1;
+  std::vector<int> ids(static_cast<std::size_t>(k));
+  get_labels(trained.get(), ids.data());
+  u.resize(static_cast<Eigen::Index>(classes), dz);
+  b.resize(static_cast<Eigen::Index>(classes));
+  for (int li = 0; li < k; ++li)
+  {
+    const int row = ids[li];
+    for (int j = 0; j < dz; ++j)
+      u(row, j) = get_decfun_coef(trained.get(), j + 1, li);
+    b[row] = static_cast<float>(get_decfun_coef(trained.get(), dz + 1, li));
+  }
+}
+}  // namespace
+
 std::vector<LinearClassifier> LinearClassifier::train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
                                                       const std::vector<double>& cs, bool in_span)
 {
@@ -54,9 +134,9 @@ std::vector<LinearClassifier> LinearClassifier::train(const Eigen::MatrixXf& x, 
   classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
   if (classes.size() < 2)
     throw std::invalid_argument("LinearClassifier::train: needs at least 2 labels");
-  std::map<std::string, int> class_index;
-  for (std::size_t i = 0; i < classes.size(); ++i)
-    class_index[classes[i]] = static_cast<int>(i);
+  std::vector<int> class_of_row;
+  for (const auto& l : labels)
+    class_of_row.push_back(static_cast<int>(std::lower_bound(classes.begin(), classes.end(), l) - classes.begin()));
 
   // Centre every column and divide all by one spread (the root mean square of the centred values).
   // Not a spread per column: that would blow the many nearly constant columns (cells the body
@@ -65,74 +145,16 @@ std::vector<LinearClassifier> LinearClassifier::train(const Eigen::MatrixXf& x, 
   const Eigen::VectorXf mean = x.colwise().mean().transpose();
   const double rms = std::sqrt((x.rowwise() - mean.transpose()).squaredNorm() / static_cast<double>(n * d));
   const Eigen::VectorXf scale = Eigen::VectorXf::Constant(d, rms > 1e-12 ? static_cast<float>(1.0 / rms) : 1.0f);
-
-  // With fewer rows than columns (the usual case: a few hundred sequences of a few thousand values)
-  // the problem is solved exactly in the rows' own span: with X = Z V' (V orthonormal, from the
-  // eigenvectors of X X'), the weights w = V u give the same scores as u on Z and the same norm,
-  // and weights outside the span only add to the norm. liblinear then works on n columns, not d.
   const Eigen::MatrixXd xs = ((x.rowwise() - mean.transpose()) * scale[0]).cast<double>();
-  Eigen::MatrixXd z = xs, basis;  // rows in the span's coordinates; w = basis * u
-  if (in_span && n < d)
-  {
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(xs * xs.transpose());
-    const double top = eig.eigenvalues().maxCoeff();
-    std::vector<Eigen::Index> keep;
-    for (Eigen::Index i = 0; i < n; ++i)
-      if (eig.eigenvalues()[i] > 1e-10 * top && top > 0.0)
-        keep.push_back(i);
-    const Eigen::VectorXd root = eig.eigenvalues()(keep).cwiseSqrt();
-    z = eig.eigenvectors()(Eigen::all, keep) * root.asDiagonal();
-    basis = xs.transpose() * eig.eigenvectors()(Eigen::all, keep) * root.cwiseInverse().asDiagonal();
-  }
-  const Eigen::Index dz = z.cols();
 
-  // liblinear's problem: every value of every row (dense), 1-based feature indices, a bias
-  // feature, and a terminator per row.
-  std::vector<feature_node> nodes(static_cast<std::size_t>(n * (dz + 2)));
-  std::vector<feature_node*> rows(static_cast<std::size_t>(n));
-  std::vector<double> y(static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i)
-  {
-    feature_node* row = &nodes[static_cast<std::size_t>(i * (dz + 2))];
-    rows[i] = row;
-    for (Eigen::Index j = 0; j < dz; ++j)
-      row[j] = { static_cast<int>(j + 1), z(i, j) };
-    row[dz] = { static_cast<int>(dz + 1), 1.0 };  // the bias feature
-    row[dz + 1] = { -1, 0.0 };
-    y[i] = class_index[labels[i]];
-  }
-  problem prob{};
-  prob.l = static_cast<int>(n);
-  prob.n = static_cast<int>(dz + 1);
-  prob.y = y.data();
-  prob.x = rows.data();
-  prob.bias = -1;  // the bias column is already in the rows
+  Eigen::MatrixXd basis;  // w = basis * u; empty: the columns as they are
+  LiblinearProblem problem(in_span && n < d ? inSpan(xs, basis) : xs, class_of_row);
   std::vector<LinearClassifier> out;
   for (double c : cs)
   {
-    parameter param{};
-    // The primal solver (trust-region Newton) is deterministic; liblinear's dual solvers draw from rand().
-    param.solver_type = L2R_LR;
-    param.eps = 0.01;
-    param.C = c;
-    set_print_string_function(&quiet);
-    if (const char* error = check_parameter(&prob, &param))
-      throw std::invalid_argument(std::string("LinearClassifier::train: liblinear: ") + error);
-    std::unique_ptr<model, void (*)(model*)> trained(::train(&prob, &param), [](model* m) { free_and_destroy_model(&m); });
-
-    // Read the weights back per label (get_decfun_* handle liblinear's two-label layout).
-    const int k = get_nr_class(trained.get());
-    std::vector<int> ids(static_cast<std::size_t>(k));
-    get_labels(trained.get(), ids.data());
-    Eigen::MatrixXd u(static_cast<Eigen::Index>(classes.size()), dz);
-    Eigen::VectorXf b(static_cast<Eigen::Index>(classes.size()));
-    for (int li = 0; li < k; ++li)
-    {
-      const int row = ids[li];
-      for (Eigen::Index j = 0; j < dz; ++j)
-        u(row, j) = get_decfun_coef(trained.get(), static_cast<int>(j + 1), li);
-      b[row] = static_cast<float>(get_decfun_coef(trained.get(), static_cast<int>(dz + 1), li));
-    }
+    Eigen::MatrixXd u;
+    Eigen::VectorXf b;
+    solve(problem.prob, c, classes.size(), u, b);
     const Eigen::MatrixXf w = (basis.size() ? Eigen::MatrixXd(u * basis.transpose()) : u).cast<float>();
     out.push_back(LinearClassifier(classes, w, b, mean, scale));
   }

@@ -409,6 +409,74 @@ Pca fitPca(const std::vector<LabelledSample>& samples, const std::vector<std::si
   return Pca::fit(all, variance);
 }
 
+namespace
+{
+// The sequence descriptors of a model's training rows, and of their mirror images.
+struct TrainingRows
+{
+  const std::vector<LabelledSample>& samples;
+  const std::vector<std::size_t>& rows;
+  std::vector<std::string> labels, persons;
+
+  TrainingRows(const std::vector<LabelledSample>& s, const std::vector<std::size_t>& r) : samples(s), rows(r)
+  {
+    for (std::size_t i : rows)
+    {
+      labels.push_back(samples[i].action);
+      persons.push_back(samples[i].person);
+    }
+  }
+
+  // Under @p model with the flow encoding @p flow (mirrored rows only when asked).
+  void describe(const ActionModel& model, FlowEncoding flow, bool with_mirrored, Eigen::MatrixXf& x,
+                Eigen::MatrixXf& mirrored) const
+  {
+    ActionModel probe = model;
+    probe.params.pyramid.flow = flow;
+    x.resize(static_cast<Eigen::Index>(rows.size()), probe.sequenceLength());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      x.row(static_cast<Eigen::Index>(i)) = sequenceOf(samples[rows[i]], probe).transpose();
+    mirrored.resize(with_mirrored ? x.rows() : 0, x.cols());
+    for (std::size_t i = 0; with_mirrored && i < rows.size(); ++i)
+      mirrored.row(static_cast<Eigen::Index>(i)) = mirroredSequenceOf(samples[rows[i]], probe).transpose();
+  }
+};
+
+// posture_flow with the linear classifier: C, the mirrored copies and the flow encoding, whichever
+// are not fixed, chosen by cross-validation inside the training people (all that @p t holds) and
+// written into @p pyramid; @p x and @p mirrored receive the rows under the choice.
+void chooseLinearSettings(const TrainingRows& t, const ActionModel& model, PyramidParams& pyramid, Eigen::MatrixXf& x,
+                          Eigen::MatrixXf& mirrored)
+{
+  std::vector<bool> mirror_options;
+  if (pyramid.mirror != MirrorMode::On)
+    mirror_options.push_back(false);
+  if (pyramid.mirror != MirrorMode::Off)
+    mirror_options.push_back(true);
+  const std::vector<double> c_options = pyramid.c > 0.0 ? std::vector<double>{ pyramid.c } : linearCandidates();
+  std::vector<FlowEncoding> encodings;  // decided before the loop, which writes pyramid.flow
+  for (FlowEncoding e : { FlowEncoding::Bins, FlowEncoding::Sums })
+    if (pyramid.flow == FlowEncoding::Choose || pyramid.flow == e)
+      encodings.push_back(e);
+  LinearChoice best;
+  for (FlowEncoding e : encodings)
+  {
+    Eigen::MatrixXf xe, me;
+    t.describe(model, e, mirror_options.back(), xe, me);
+    const LinearChoice choice = chooseLinear(xe, me.size() ? &me : nullptr, t.labels, t.persons, mirror_options, c_options);
+    if (x.size() == 0 || choice.score > best.score + 1e-9)
+    {
+      best = choice;
+      pyramid.flow = e;
+      x = std::move(xe);
+      mirrored = std::move(me);
+    }
+  }
+  pyramid.c = best.c;
+  pyramid.mirror = best.mirror ? MirrorMode::On : MirrorMode::Off;
+}
+}  // namespace
+
 ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
                        const RecognitionParams& params, const Pca* fitted)
 {
@@ -418,60 +486,15 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
   model.params = params;
   if (params.recognizer == Recognizer::Paper && params.use_pca)
     model.pca = fitted ? *fitted : fitPca(samples, rows, params.pca_variance);
-  std::vector<std::string> labels, persons;
-  for (std::size_t r : rows)
-  {
-    labels.push_back(samples[r].action);
-    persons.push_back(samples[r].person);
-  }
+  const TrainingRows t(samples, rows);
   PyramidParams& pyramid = model.params.pyramid;
   const bool posture_flow = params.recognizer == Recognizer::PostureFlow;
   const bool linear = posture_flow && pyramid.classifier == PyramidClassifier::Linear;
-  // The sequence descriptors of the rows (and mirrored) under one flow encoding.
-  const auto describe = [&](FlowEncoding flow, bool with_mirrored, Eigen::MatrixXf& x, Eigen::MatrixXf& mirrored) {
-    ActionModel probe = model;
-    probe.params.pyramid.flow = flow;
-    x.resize(static_cast<Eigen::Index>(rows.size()), probe.sequenceLength());
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      x.row(static_cast<Eigen::Index>(i)) = sequenceOf(samples[rows[i]], probe).transpose();
-    mirrored.resize(with_mirrored ? x.rows() : 0, x.cols());
-    for (std::size_t i = 0; with_mirrored && i < rows.size(); ++i)
-      mirrored.row(static_cast<Eigen::Index>(i)) = mirroredSequenceOf(samples[rows[i]], probe).transpose();
-  };
   Eigen::MatrixXf x, mirrored;
   if (!posture_flow)
-    describe(FlowEncoding::Bins, false, x, mirrored);
+    t.describe(model, FlowEncoding::Bins, false, x, mirrored);
   else if (linear && (!(pyramid.c > 0.0) || pyramid.mirror == MirrorMode::Choose || pyramid.flow == FlowEncoding::Choose))
-  {
-    // Chosen inside the training people (they are all this function sees): C, the mirrored copies
-    // and the flow encoding, whichever are not fixed. The choice is recorded in the model.
-    std::vector<bool> mirror_options;
-    if (pyramid.mirror != MirrorMode::On)
-      mirror_options.push_back(false);
-    if (pyramid.mirror != MirrorMode::Off)
-      mirror_options.push_back(true);
-    const std::vector<double> c_options = pyramid.c > 0.0 ? std::vector<double>{ pyramid.c } : linearCandidates();
-    std::vector<FlowEncoding> encodings;
-    for (FlowEncoding e : { FlowEncoding::Bins, FlowEncoding::Sums })
-      if (pyramid.flow == FlowEncoding::Choose || pyramid.flow == e)
-        encodings.push_back(e);
-    LinearChoice best;
-    for (FlowEncoding e : encodings)
-    {
-      Eigen::MatrixXf xe, me;
-      describe(e, mirror_options.back(), xe, me);
-      const LinearChoice choice = chooseLinear(xe, me.size() ? &me : nullptr, labels, persons, mirror_options, c_options);
-      if (x.size() == 0 || choice.score > best.score + 1e-9)
-      {
-        best = choice;
-        pyramid.flow = e;
-        x = std::move(xe);
-        mirrored = std::move(me);
-      }
-    }
-    pyramid.c = best.c;
-    pyramid.mirror = best.mirror ? MirrorMode::On : MirrorMode::Off;
-  }
+    chooseLinearSettings(t, model, pyramid, x, mirrored);
   else
   {
     // 1-NN has nothing to fit: what is not fixed takes the fuller option.
@@ -479,18 +502,17 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
       pyramid.flow = FlowEncoding::Bins;
     if (pyramid.mirror == MirrorMode::Choose)
       pyramid.mirror = MirrorMode::On;
-    describe(pyramid.flow, pyramid.mirror == MirrorMode::On, x, mirrored);
+    t.describe(model, pyramid.flow, pyramid.mirror == MirrorMode::On, x, mirrored);
   }
-  const bool mirror = posture_flow && pyramid.mirror == MirrorMode::On;
   model.descriptors = x;
-  model.labels = labels;
-  model.persons = persons;
-  if (mirror)
+  model.labels = t.labels;
+  model.persons = t.persons;
+  if (posture_flow && pyramid.mirror == MirrorMode::On)
   {
     model.descriptors.conservativeResize(2 * x.rows(), Eigen::NoChange);
     model.descriptors.bottomRows(x.rows()) = mirrored;
-    model.labels.insert(model.labels.end(), labels.begin(), labels.end());
-    model.persons.insert(model.persons.end(), persons.begin(), persons.end());
+    model.labels.insert(model.labels.end(), t.labels.begin(), t.labels.end());
+    model.persons.insert(model.persons.end(), t.persons.begin(), t.persons.end());
   }
   if (linear)
     model.linear = LinearClassifier::train(model.descriptors, model.labels, pyramid.c);

@@ -181,6 +181,76 @@ std::string plotScript()
 }
 }  // namespace
 
+// Every variant evaluate knows, and the frame descriptor sets they read.
+struct VariantTable
+{
+  std::vector<RecognitionParams> extractions;
+  std::vector<Variant> all;
+};
+
+VariantTable variantTable(const RecognitionParams& base)
+{
+  // The paper's variants (Figure 7): three sets of frame descriptors cover all four; the default
+  // recognizer and its ablations share a fourth. All four share one flow matching per frame.
+  RecognitionParams sum = base, mean = base, raw = base;
+  sum.recognizer = mean.recognizer = raw.recognizer = Recognizer::Paper;
+  sum.grid.aggregation = raw.grid.aggregation = FlowAggregation::Sum;
+  mean.grid.aggregation = FlowAggregation::Mean;
+  sum.use_pca = mean.use_pca = raw.use_pca = false;
+  raw.flow.reject_outliers = false;
+  RecognitionParams pca = sum;
+  pca.use_pca = true;
+  RecognitionParams pf = base;
+  pf.recognizer = Recognizer::PostureFlow;
+  const auto ablation = [&](auto change) {
+    RecognitionParams p = pf;
+    change(p.pyramid);
+    return p;
+  };
+  return { { sum, mean, raw, pf }, {
+    { "posture_flow", "posture_flow (default)", pf, 3 },
+    { "posture_flow_no_posture", "posture_flow without posture", ablation([](PyramidParams& p) { p.posture = false; }), 3 },
+    { "posture_flow_sums", "posture_flow, always signed flow sums",
+      ablation([](PyramidParams& p) { p.flow = FlowEncoding::Sums; }), 3 },
+    { "posture_flow_bins", "posture_flow, always direction bins",
+      ablation([](PyramidParams& p) { p.flow = FlowEncoding::Bins; }), 3 },
+    { "posture_flow_single_level", "posture_flow, 4x4x4 grid only",
+      ablation([](PyramidParams& p) { p.coarse_to_fine = false; }), 3 },
+    { "posture_flow_no_pyramid", "posture_flow, whole-sequence mean only",
+      ablation([](PyramidParams& p) { p.temporal_levels = 1; }), 3 },
+    { "posture_flow_nn", "posture_flow, 1-NN instead of the linear classifier",
+      ablation([](PyramidParams& p) { p.classifier = PyramidClassifier::Nearest; }), 3 },
+    { "posture_flow_no_mirror", "posture_flow, never mirrored training copies",
+      ablation([](PyramidParams& p) { p.mirror = MirrorMode::Off; }), 3 },
+    { "posture_flow_mirror", "posture_flow, always mirrored training copies",
+      ablation([](PyramidParams& p) { p.mirror = MirrorMode::On; }), 3 },
+    { "meanflow", "paper: MEANFLOW", mean, 1 },
+    { "sumflow_raw", "paper: SUMFLOW without outlier rejection", raw, 2 },
+    { "sumflow", "paper: SUMFLOW", sum, 0 },
+    { "sumflow_pca", "paper: SUMFLOW with PCA", pca, 0 },
+    { "joints", "joint-position baseline (skeleton files, not clouds)", pf, 0 } } };
+}
+
+// The variants --variants names (default: all, the joint baseline only for MSR Action3D).
+std::vector<Variant> selectVariants(const std::vector<Variant>& all, const Args& args)
+{
+  std::vector<Variant> variants;
+  std::string names;
+  for (const auto& v : all)
+    if (v.name != "joints" || args.get("synth") == "msr")
+      names += (names.empty() ? "" : ",") + v.name;
+  const auto wanted = splitList(args.get("variants", names));
+  for (const auto& w : wanted)
+  {
+    const auto it = std::find_if(all.begin(), all.end(), [&](const Variant& v) { return v.name == w; });
+    if (it == all.end())
+      throw UsageError("unknown variant '" + w + "'");
+    variants.push_back(*it);
+  }
+
+  return variants;
+}
+
 int main(int argc, char** argv)
 {
   return runTool("evaluate", [&]() -> int {
@@ -207,60 +277,12 @@ int main(int argc, char** argv)
     if (samples.empty())
       throw std::invalid_argument("no samples to evaluate");
 
-    // The paper's variants (Figure 7): three sets of frame descriptors cover all four; the default
-    // recognizer and its ablations share a fourth. All four share one flow matching per frame.
-    RecognitionParams sum = base, mean = base, raw = base;
-    sum.recognizer = mean.recognizer = raw.recognizer = Recognizer::Paper;
-    sum.grid.aggregation = raw.grid.aggregation = FlowAggregation::Sum;
-    mean.grid.aggregation = FlowAggregation::Mean;
-    sum.use_pca = mean.use_pca = raw.use_pca = false;
-    raw.flow.reject_outliers = false;
+    const VariantTable table = variantTable(base);
+    const std::vector<RecognitionParams>& extractions = table.extractions;
+    const RecognitionParams& sum = extractions[0];
     RecognitionParams pca = sum;
     pca.use_pca = true;
-    RecognitionParams pf = base;
-    pf.recognizer = Recognizer::PostureFlow;
-    const auto ablation = [&](auto change) {
-      RecognitionParams p = pf;
-      change(p.pyramid);
-      return p;
-    };
-    const std::vector<RecognitionParams> extractions = { sum, mean, raw, pf };
-    std::vector<Variant> all = {
-      { "posture_flow", "posture_flow (default)", pf, 3 },
-      { "posture_flow_no_posture", "posture_flow without posture", ablation([](PyramidParams& p) { p.posture = false; }), 3 },
-      { "posture_flow_sums", "posture_flow, always signed flow sums",
-        ablation([](PyramidParams& p) { p.flow = FlowEncoding::Sums; }), 3 },
-      { "posture_flow_bins", "posture_flow, always direction bins",
-        ablation([](PyramidParams& p) { p.flow = FlowEncoding::Bins; }), 3 },
-      { "posture_flow_single_level", "posture_flow, 4x4x4 grid only",
-        ablation([](PyramidParams& p) { p.coarse_to_fine = false; }), 3 },
-      { "posture_flow_no_pyramid", "posture_flow, whole-sequence mean only",
-        ablation([](PyramidParams& p) { p.temporal_levels = 1; }), 3 },
-      { "posture_flow_nn", "posture_flow, 1-NN instead of the linear classifier",
-        ablation([](PyramidParams& p) { p.classifier = PyramidClassifier::Nearest; }), 3 },
-      { "posture_flow_no_mirror", "posture_flow, never mirrored training copies",
-        ablation([](PyramidParams& p) { p.mirror = MirrorMode::Off; }), 3 },
-      { "posture_flow_mirror", "posture_flow, always mirrored training copies",
-        ablation([](PyramidParams& p) { p.mirror = MirrorMode::On; }), 3 },
-      { "meanflow", "paper: MEANFLOW", mean, 1 },
-      { "sumflow_raw", "paper: SUMFLOW without outlier rejection", raw, 2 },
-      { "sumflow", "paper: SUMFLOW", sum, 0 },
-      { "sumflow_pca", "paper: SUMFLOW with PCA", pca, 0 },
-      { "joints", "joint-position baseline (skeleton files, not clouds)", pf, 0 } };
-    std::vector<Variant> variants;
-    std::string names;
-    for (const auto& v : all)
-      if (v.name != "joints" || args.get("synth") == "msr")
-        names += (names.empty() ? "" : ",") + v.name;
-    const auto wanted = splitList(args.get("variants", names));
-    for (const auto& w : wanted)
-    {
-      const auto it = std::find_if(all.begin(), all.end(), [&](const Variant& v) { return v.name == w; });
-      if (it == all.end())
-        throw UsageError("unknown variant '" + w + "'");
-      variants.push_back(*it);
-    }
-
+    const std::vector<Variant> variants = selectVariants(table.all, args);
     installInterruptHandler();
     std::vector<std::string> persons;
     for (const auto& s : samples)
