@@ -67,6 +67,14 @@ public:
    */
   Eigen::VectorXf mirrored(const Eigen::VectorXf& descriptor) const;
 
+  /**
+   * @brief The body's motion energy in a descriptor: the whole-body cell's six flow bins summed,
+   *        i.e. the mean over the person's points of |vx| + |vy| + |vz| (m/s; 0 without flow).
+   *        The online mode opens and closes action segments on it.
+   * @throws std::invalid_argument on a descriptor shorter than one cell
+   */
+  static float motion(const Eigen::VectorXf& descriptor);
+
 private:
   GridDescriptor grid_;  // the finest level's geometry
 };

@@ -87,6 +87,14 @@ Eigen::VectorXf PostureFlowDescriptor::compute(const Cloud& cloud, const FlowVec
   return d;
 }
 
+float PostureFlowDescriptor::motion(const Eigen::VectorXf& descriptor)
+{
+  if (descriptor.size() < kPostureFlowValuesPerCell)
+    throw std::invalid_argument("PostureFlowDescriptor::motion: descriptor of length " +
+                                std::to_string(descriptor.size()));
+  return descriptor.segment<kPostureFlowValuesPerCell - 1>(1).sum();  // level 0 comes first: one cell
+}
+
 Eigen::VectorXf PostureFlowDescriptor::mirrored(const Eigen::VectorXf& in) const
 {
   if (in.size() != size())

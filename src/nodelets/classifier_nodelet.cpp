@@ -1,17 +1,16 @@
-// Classifier stage: sequences of frame descriptors per track, classified by ~model (core
-// ActionModel: its sequence descriptor and classifier, whichever recognizer it holds), labels on `labels`.
+// Classifier stage: frame descriptors per track to labels on `labels`, by the core's
+// RecognitionPolicy over ~model (whichever recognizer it holds).
 #include <action_flow/ActionLabel.h>
 #include <action_flow/Classify.h>
 #include <action_flow/action_model.h>
 #include <action_flow/ros/lazy_nodelet.h>
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
-#include <action_flow/sequence_descriptor.h>
+#include <action_flow/recognition_policy.h>
 
 #include <pluginlib/class_list_macros.hpp>
 #include <visualization_msgs/MarkerArray.h>
 
-#include <deque>
 #include <map>
 #include <optional>
 
@@ -20,40 +19,26 @@ namespace action_flow
 /**
  * Subscribes `descriptors` (FrameDescriptors); publishes `labels` (ActionLabel), `states`
  * (ActionStates, per frame) and `markers` (MarkerArray: flow arrows and the label above each
- * head); service `~classify` (segmented mode: classify the open sequences now).
- * Parameters (private): model (path), mode (segmented|online), window, classify_every,
- * stable_count, min_frames, min_coverage, end_of_input_timeout, arrow_scale, max_arrows, and
- * the recognition parameters the model must have been made with.
+ * head); service `~classify` (classify the open sequences now). When to classify and what to
+ * publish is the core's RecognitionPolicy: this nodelet converts messages and publishes.
+ * Parameters (private): model (path), the policy's (readPolicyParams: mode, ...),
+ * end_of_input_timeout, arrow_scale, max_arrows, and the recognition parameters the model must
+ * have been made with.
  */
 class ClassifierNodelet : public LazyNodelet
 {
-  struct Sequence
-  {
-    std::deque<Eigen::VectorXf> descriptors;
-    std::deque<double> stamps;
-    geometry_msgs::Point head;
-    std::string published;  // last label published for this track
-    std::string candidate;  // online: the label of the last classifications
-    int candidate_count = 0;
-    int since_classified = 0;
-  };
-
   void onInit() override
   {
     ros::NodeHandle& pnh = getPrivateNodeHandle();
-    std::string mode = "segmented";
-    pnh.param("mode", mode, mode);
-    if (mode != "segmented" && mode != "online")
+    try
     {
-      NODELET_ERROR("unknown ~mode '%s' (segmented|online): using segmented", mode.c_str());
-      mode = "segmented";
+      policy_params_ = readPolicyParams(pnh);
     }
-    online_ = mode == "online";
-    pnh.param("window", window_, window_);
-    pnh.param("classify_every", classify_every_, classify_every_);
-    pnh.param("stable_count", stable_count_, stable_count_);
-    pnh.param("min_frames", min_frames_, min_frames_);
-    pnh.param("min_coverage", min_coverage_, min_coverage_);
+    catch (const std::exception& e)
+    {
+      NODELET_ERROR("%s: using the defaults (segmented)", e.what());
+      policy_params_ = PolicyParams();
+    }
     pnh.param("end_of_input_timeout", end_of_input_timeout_, end_of_input_timeout_);
     pnh.param("arrow_scale", arrow_scale_, arrow_scale_);
     pnh.param("max_arrows", max_arrows_, max_arrows_);
@@ -66,9 +51,11 @@ class ClassifierNodelet : public LazyNodelet
     states_pub_ = advertiseLazy<ActionStates>("states", 10);
     markers_pub_ = advertiseLazy<visualization_msgs::MarkerArray>("markers", 5);
     service_ = pnh.advertiseService("classify", &ClassifierNodelet::onClassify, this);
-    if (!online_)
+    if (!online())
       timer_ = getNodeHandle().createWallTimer(ros::WallDuration(0.2), &ClassifierNodelet::onTimer, this);
   }
+
+  bool online() const { return policy_params_.mode == PolicyParams::Mode::Online; }
 
   void loadModel(ros::NodeHandle& pnh)
   {
@@ -82,14 +69,13 @@ class ClassifierNodelet : public LazyNodelet
     }
     try
     {
-      ActionModel model = ActionModel::load(path);
-      model.checkCompatible(readRecognitionParams(pnh), path);
-      classifier_.emplace(model.classifier());
-      min_frames_ = std::max(min_frames_, 1);
-      NODELET_INFO("model '%s': recognizer %s, %zu training sequences of %zu actions, %s", path.c_str(),
-                   toString(model.params.recognizer).c_str(), model.labels.size(), classifier_->classes().size(),
-                   online_ ? "online" : "segmented");
-      model_.emplace(std::move(model));
+      auto model = std::make_shared<ActionModel>(ActionModel::load(path));
+      model->checkCompatible(readRecognitionParams(pnh), path);
+      policy_.emplace(model, policy_params_);
+      NODELET_INFO("model '%s': recognizer %s, %zu training sequences of %zu actions, %s%s", path.c_str(),
+                   toString(model->params.recognizer).c_str(), model->labels.size(),
+                   model->classifier().classes().size(), online() ? "online" : "segmented",
+                   online() ? (policy_->usesMotion() ? " (motion segments)" : " (sliding window)") : "");
     }
     catch (const std::exception& e)
     {
@@ -105,168 +91,107 @@ class ClassifierNodelet : public LazyNodelet
     last_input_ = ros::WallTime::now();
     const double stamp = in->header.stamp.toSec();
     header_ = in->header;
-    if (in->reset || stamp < last_stamp_)
+    if (!policy_)
+      NODELET_ERROR_THROTTLE(10, "not classifying: %s", model_error_.c_str());
+    else if (in->reset || stamp < last_stamp_)
     {
-      NODELET_WARN_THROTTLE(5, "time went backwards: dropping %zu open sequences", sequences_.size());
-      sequences_.clear();
+      NODELET_WARN_THROTTLE(5, "time went backwards: dropping %zu open sequences", policy_->tracks());
+      policy_->clear();
     }
     last_stamp_ = stamp;
-    if (!classifier_)
-      NODELET_ERROR_THROTTLE(10, "not classifying: %s", model_error_.c_str());
 
     auto states = boost::make_shared<ActionStates>();
     states->header = in->header;
     states->source = in;
     for (const auto& d : in->descriptors)
     {
-      Sequence& s = sequences_[d.track_id];
-      s.head = d.head;
-      if (d.status == PeopleFlow::kReset)
+      if (policy_ && d.status == PeopleFlow::kReset)
+        policy_->restart(d.track_id);
+      if (policy_ && d.status == PeopleFlow::kFlow && !d.values.empty())
       {
-        s.descriptors.clear();
-        s.stamps.clear();
-      }
-      if (d.status == PeopleFlow::kFlow && !d.values.empty())
-      {
-        s.descriptors.emplace_back(Eigen::Map<const Eigen::VectorXf>(d.values.data(), d.values.size()));
-        s.stamps.push_back(stamp);
-        if (online_)
-          stepOnline(d.track_id, s);
+        try
+        {
+          publish(policy_->add(d.track_id, Eigen::Map<const Eigen::VectorXf>(d.values.data(), d.values.size()), stamp));
+        }
+        catch (const std::exception& e)
+        {
+          NODELET_ERROR_THROTTLE(5, "cannot classify track %u: %s", d.track_id, e.what());
+        }
       }
       ActionState state;
       state.track_id = d.track_id;
       state.head = d.head;
-      state.frames = s.descriptors.size();
-      state.label = s.published;
+      state.frames = policy_ ? policy_->frames(d.track_id) : 0;
+      state.label = policy_ ? policy_->current(d.track_id) : std::string();
       states->tracks.push_back(state);
     }
-    for (std::uint32_t id : in->lost)
-    {
-      auto it = sequences_.find(id);
-      if (it == sequences_.end())
-        continue;
-      if (!online_)
-        finish(id, it->second);
-      sequences_.erase(it);
-    }
+    if (policy_)
+      for (std::uint32_t id : in->lost)
+        publish(endTrack(id));
     if (states_pub_.getNumSubscribers() > 0)
       states_pub_.publish(states);
     if (markers_pub_.getNumSubscribers() > 0)
       publishMarkers(*in);
   }
 
-  /** Online mode: keep the last window seconds, re-classify every few frames, publish when stable. */
-  void stepOnline(std::uint32_t id, Sequence& s)
+  std::vector<LabelEvent> endTrack(std::uint32_t id)
   {
-    while (!s.stamps.empty() && s.stamps.front() < s.stamps.back() - window_)
-    {
-      s.stamps.pop_front();
-      s.descriptors.pop_front();
-    }
-    if (++s.since_classified < classify_every_ || !classifier_)
-      return;
-    if (s.stamps.size() < 2 || s.stamps.back() - s.stamps.front() < min_coverage_ * window_)
-      return;
-    s.since_classified = 0;
-    const auto c = classify(id, s);
-    if (!c)
-      return;
-    if (c->label == s.candidate)
-      ++s.candidate_count;
-    else
-    {
-      s.candidate = c->label;
-      s.candidate_count = 1;
-    }
-    if (s.candidate_count >= stable_count_ && s.candidate != s.published)
-    {
-      s.published = s.candidate;
-      publishLabel(id, s, *c, ActionLabel::ONLINE);
-    }
-  }
-
-  /** Segmented mode: the whole sequence of a track that ended (or was asked for). */
-  std::optional<ActionLabel> finish(std::uint32_t id, Sequence& s)
-  {
-    if (!classifier_)
-      return std::nullopt;
-    if (static_cast<int>(s.descriptors.size()) < min_frames_)
-    {
+    const std::size_t frames = policy_->frames(id);
+    auto events = policy_->end(id);
+    if (!online() && events.empty() && frames > 0)
       NODELET_INFO("track %u ended with %zu frame descriptors (fewer than min_frames %d): not classified", id,
-                   s.descriptors.size(), min_frames_);
-      return std::nullopt;
-    }
-    const auto c = classify(id, s);
-    if (!c)
-      return std::nullopt;
-    s.published = c->label;
-    return publishLabel(id, s, *c, ActionLabel::SEGMENTED);
+                   frames, policy_params_.min_frames);
+    return events;
   }
 
-  std::optional<Classification> classify(std::uint32_t id, const Sequence& s)
+  std::vector<ActionLabel> publish(const std::vector<LabelEvent>& events)
   {
-    try
+    std::vector<ActionLabel> out;
+    for (const LabelEvent& e : events)
     {
-      const std::vector<Eigen::VectorXf> descriptors(s.descriptors.begin(), s.descriptors.end());
-      const std::vector<double> stamps(s.stamps.begin(), s.stamps.end());
-      return classifier_->classify(model_->sequence(descriptors, stamps));
+      auto label = boost::make_shared<ActionLabel>();
+      label->header = header_;
+      label->track_id = e.track;
+      label->label = e.result.label;
+      label->distance = e.result.distance;
+      label->margin = e.result.margin;
+      label->confidence = e.result.confidence;
+      label->window_start = ros::Time(e.start);
+      label->window_end = ros::Time(e.end);
+      label->mode = e.kind == LabelEvent::Kind::Segmented ? ActionLabel::SEGMENTED
+                    : e.closes_published                   ? ActionLabel::ONLINE_END
+                                                           : ActionLabel::ONLINE;
+      if (label->mode == ActionLabel::ONLINE_END)
+        NODELET_INFO("track %u: %s ended (%.2f s)", e.track, e.result.label.c_str(), e.end - e.start);
+      else
+        NODELET_INFO("track %u: %s (confidence %.2f, margin %.3f, %zu frames)", e.track, e.result.label.c_str(),
+                     e.result.confidence, e.result.margin, e.frames);
+      labels_pub_.publish(label);
+      out.push_back(*label);
     }
-    catch (const std::exception& e)
-    {
-      NODELET_ERROR_THROTTLE(5, "cannot classify track %u: %s", id, e.what());
-      return std::nullopt;
-    }
-  }
-
-  ActionLabel publishLabel(std::uint32_t id, const Sequence& s, const Classification& c, std::uint8_t mode)
-  {
-    auto label = boost::make_shared<ActionLabel>();
-    label->header = header_;
-    label->track_id = id;
-    label->label = c.label;
-    label->distance = c.distance;
-    label->margin = c.margin;
-    label->confidence = c.confidence;
-    label->window_start = ros::Time(s.stamps.front());
-    label->window_end = ros::Time(s.stamps.back());
-    label->mode = mode;
-    NODELET_INFO("track %u: %s (confidence %.2f, margin %.3f, %zu frames)", id, c.label.c_str(), c.confidence,
-                 c.margin, s.descriptors.size());
-    labels_pub_.publish(label);
-    return *label;
-  }
-
-  void finishAll(std::vector<ActionLabel>* labels)
-  {
-    for (auto& [id, s] : sequences_)
-    {
-      auto l = finish(id, s);
-      if (l && labels)
-        labels->push_back(*l);
-    }
-    sequences_.clear();
+    return out;
   }
 
   void onTimer(const ros::WallTimerEvent&)
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (sequences_.empty() || (ros::WallTime::now() - last_input_).toSec() < end_of_input_timeout_)
+    if (!policy_ || policy_->tracks() == 0 || (ros::WallTime::now() - last_input_).toSec() < end_of_input_timeout_)
       return;
     NODELET_INFO("no input for %.1f s: end of input, classifying %zu open sequences", end_of_input_timeout_,
-                 sequences_.size());
-    finishAll(nullptr);
+                 policy_->tracks());
+    publish(policy_->endAll());
   }
 
   bool onClassify(Classify::Request&, Classify::Response& res)
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!classifier_)
+    if (!policy_)
     {
       res.message = "not classifying: " + model_error_;
       return true;
     }
-    const std::size_t open = sequences_.size();
-    finishAll(&res.labels);
+    const std::size_t open = policy_->tracks();
+    res.labels = publish(policy_->endAll());
     res.message = std::to_string(res.labels.size()) + " of " + std::to_string(open) + " open sequences classified";
     return true;
   }
@@ -318,8 +243,8 @@ class ClassifierNodelet : public LazyNodelet
     for (const auto& d : in.descriptors)
     {
       auto m = base("label", d.track_id, visualization_msgs::Marker::TEXT_VIEW_FACING);
-      const auto it = sequences_.find(d.track_id);
-      const std::string label = it == sequences_.end() || it->second.published.empty() ? "?" : it->second.published;
+      const std::string published = policy_ ? policy_->current(d.track_id) : std::string();
+      const std::string label = published.empty() ? "?" : published;
       m.text = std::to_string(d.track_id) + ": " + label;
       m.pose.position = d.head;
       const auto u = up.find(d.track_id);
@@ -336,22 +261,14 @@ class ClassifierNodelet : public LazyNodelet
     markers_pub_.publish(markers);
   }
 
-  bool online_ = false;
-  double window_ = 3.0;
-  int classify_every_ = 5;
-  int stable_count_ = 3;
-  int min_frames_ = 5;
-  double min_coverage_ = 0.8;
+  PolicyParams policy_params_;
   double end_of_input_timeout_ = 1.0;
   double arrow_scale_ = 0.1;
   int max_arrows_ = 150;
-
-  std::optional<ActionModel> model_;
-  std::optional<SequenceClassifier> classifier_;
+  std::optional<RecognitionPolicy> policy_;
   std::string model_error_;
 
   std::mutex mutex_;
-  std::map<std::uint32_t, Sequence> sequences_;
   std_msgs::Header header_;
   double last_stamp_ = -1.0;
   ros::WallTime last_input_;

@@ -46,6 +46,33 @@ RecognitionParams readRecognitionParams(const ros::NodeHandle& nh)
   return p;
 }
 
+PolicyParams readPolicyParams(const ros::NodeHandle& nh)
+{
+  PolicyParams p;
+  std::string mode = "segmented";
+  nh.param("mode", mode, mode);
+  p.mode = policyModeFromString(mode);
+  nh.param("min_frames", p.min_frames, p.min_frames);
+  nh.param("classify_every", p.classify_every, p.classify_every);
+  nh.param("stable_count", p.stable_count, p.stable_count);
+  nh.param("min_confidence", p.min_confidence, p.min_confidence);
+  nh.param("idle_labels", p.idle_labels, p.idle_labels);
+  nh.param("motion_segments", p.motion_segments, p.motion_segments);
+  nh.param("motion_on", p.motion_on, p.motion_on);
+  nh.param("motion_off", p.motion_off, p.motion_off);
+  nh.param("motion_smooth", p.motion_smooth, p.motion_smooth);
+  nh.param("rest_time", p.rest_time, p.rest_time);
+  nh.param("pre_roll", p.pre_roll, p.pre_roll);
+  nh.param("post_roll", p.post_roll, p.post_roll);
+  nh.param("min_segment", p.min_segment, p.min_segment);
+  nh.param("max_segment", p.max_segment, p.max_segment);
+  nh.param("publish_early", p.publish_early, p.publish_early);
+  nh.param("window", p.window, p.window);
+  nh.param("min_coverage", p.min_coverage, p.min_coverage);
+  p.validate();
+  return p;
+}
+
 TrackerParams readTrackerParams(const ros::NodeHandle& nh)
 {
   TrackerParams p;

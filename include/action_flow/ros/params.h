@@ -7,6 +7,7 @@
 
 #include <action_flow/action_model.h>
 #include <action_flow/people_tracker.h>
+#include <action_flow/recognition_policy.h>
 
 #include <ros/node_handle.h>
 
@@ -19,6 +20,13 @@ namespace action_flow
  * @throws std::invalid_argument on an unknown descriptor name
  */
 RecognitionParams readRecognitionParams(const ros::NodeHandle& nh);
+
+/**
+ * @brief Reads the classifier's policy: mode (segmented|online) and the members of PolicyParams
+ *        under the same names (idle_labels as a list of strings).
+ * @throws std::invalid_argument on an unknown mode or a value out of range, naming it
+ */
+PolicyParams readPolicyParams(const ros::NodeHandle& nh);
 
 /** @brief Reads the tracker's parameters (same names as TrackerParams' members; ground as a 4-list). */
 TrackerParams readTrackerParams(const ros::NodeHandle& nh);

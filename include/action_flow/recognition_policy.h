@@ -1,0 +1,170 @@
+/**
+ * @file recognition_policy.h
+ * @brief When to classify whom, and which labels to publish: the per-track sequences of frame
+ *        descriptors, the segmented mode, the online mode (motion segments, or a sliding window)
+ *        with its stability and rejection rules. ROS-free: the classifier nodelet converts
+ *        messages and publishes what this decides, and `evaluate --protocol online` runs the
+ *        same class on recorded streams.
+ *
+ * Online, with a model whose frame descriptors carry the body's motion (posture_flow): a track's
+ * motion energy (the mean speed of its points, smoothed over motion_smooth seconds) opens a
+ * segment when it rises above motion_on and closes it when it has stayed below motion_off for
+ * rest_time seconds. The segment's frames, with pre_roll and post_roll seconds of stillness
+ * around them (the training samples have such lead-ins), are classified every classify_every
+ * frames while it is open; once stable_count classifications in a row agree, with confidence at
+ * least min_confidence and a label that is not an idle label, the label is published (Started).
+ * When the segment closes, a label already published is closed with its final span (Ended); if
+ * none was, the whole segment is classified once and published if it passes the same tests
+ * (Ended too). Stillness between actions therefore produces no label at all.
+ *
+ * With a model whose descriptors carry no motion (the paper's), online falls back to a sliding
+ * window of the last `window` seconds, with the same stability and rejection rules; a label is
+ * published when it differs from the last one published for that track.
+ */
+#pragma once
+
+#include <action_flow/action_model.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+/** @brief The policy's parameters (the classifier nodelet reads them from its private namespace). */
+struct PolicyParams
+{
+  enum class Mode
+  {
+    Segmented,  ///< classify a track's whole sequence when it ends (or when asked)
+    Online      ///< classify while the person acts
+  };
+  Mode mode = Mode::Segmented;
+  int min_frames = 5;             ///< fewer frame descriptors are never classified
+  int classify_every = 5;         ///< online: frames between classifications of a track
+  int stable_count = 3;           ///< online: equal classifications in a row before a label is published
+  double min_confidence = 0.0;    ///< online: a label less sure than this is not published (rejection)
+  /** Online: labels that mean "no action" and are never published (idle periods look like them). */
+  std::vector<std::string> idle_labels = { "standing" };
+  /** Online: use motion segments when the model's descriptors carry motion (else the sliding window). */
+  bool motion_segments = true;
+  double motion_on = 0.06;        ///< m/s: smoothed motion energy that opens a segment
+  double motion_off = 0.035;      ///< m/s: below this the body counts as still
+  double motion_smooth = 0.3;     ///< s: moving mean of the motion energy
+  double rest_time = 0.5;         ///< s of stillness that close a segment
+  double pre_roll = 0.4;          ///< s of frames before the segment's start that are classified with it
+  double post_roll = 0.4;         ///< s after its end, likewise
+  double min_segment = 0.8;       ///< s: shorter segments are neither labelled early nor at their end
+  double max_segment = 8.0;       ///< s: a longer segment is classified over its last max_segment seconds
+  bool publish_early = true;      ///< publish during a segment once stable; false: only when it closes
+  double window = 3.0;            ///< sliding window (no motion): seconds classified
+  double min_coverage = 0.8;      ///< sliding window: share of `window` the frames must span first
+
+  /** @throws std::invalid_argument naming the first parameter out of range. */
+  void validate() const;
+};
+
+/** @brief Mode by name: "segmented" or "online". @throws std::invalid_argument otherwise. */
+PolicyParams::Mode policyModeFromString(const std::string& name);
+
+/** @brief A label the policy decided to publish. */
+struct LabelEvent
+{
+  enum class Kind
+  {
+    Segmented,  ///< a whole sequence (track ended, end of input, or asked for)
+    Started,    ///< online: published while the action is under way
+    Ended       ///< online: the action ended; same label as a Started one when that was published, else new
+  };
+  Kind kind = Kind::Segmented;
+  std::uint32_t track = 0;
+  Classification result;
+  double start = 0.0, end = 0.0;  ///< stamps of the first and last classified frame
+  std::size_t frames = 0;          ///< frame descriptors classified
+  /** Ended only: true when it closes a label already published (Started), false when the label is new. */
+  bool closes_published = false;
+};
+
+/**
+ * @brief Per-track sequences and the rules above, for one model. Not thread-safe (the nodelet
+ *        holds a lock). Tracks are independent: one person's frames never reach another's sequence.
+ */
+class RecognitionPolicy
+{
+public:
+  /** @throws std::invalid_argument if @p params are invalid or @p model is null */
+  RecognitionPolicy(std::shared_ptr<const ActionModel> model, const PolicyParams& params);
+
+  /**
+   * @brief The next frame descriptor of track @p id at @p stamp. Returns the labels decided now
+   *        (online: at most one per call; segmented: none).
+   * @throws std::invalid_argument if @p frame does not have the model's frame descriptor length
+   */
+  std::vector<LabelEvent> add(std::uint32_t id, const Eigen::VectorXf& frame, double stamp);
+  /** @brief Track @p id restarted (its flow was reset): its frames so far are forgotten. */
+  void restart(std::uint32_t id);
+  /**
+   * @brief Track @p id ended. Segmented: its whole sequence is classified (if it has min_frames).
+   *        Online: an open segment is closed as if the person had come to rest.
+   */
+  std::vector<LabelEvent> end(std::uint32_t id);
+  /** @brief Ends every track (end of input, or the classify service). */
+  std::vector<LabelEvent> endAll();
+  /** @brief Forgets every track without classifying (time went backwards). */
+  void clear() { tracks_.clear(); }
+
+  /** @brief The last label published for @p id ("" if none, or the track is unknown). */
+  std::string current(std::uint32_t id) const;
+  /** @brief Frame descriptors held for @p id. */
+  std::size_t frames(std::uint32_t id) const;
+  std::size_t tracks() const { return tracks_.size(); }
+  /** @brief True when the online mode uses motion segments with this model (else the sliding window). */
+  bool usesMotion() const { return use_motion_; }
+  const PolicyParams& params() const { return params_; }
+  const ActionModel& model() const { return *model_; }
+
+private:
+  struct Frame
+  {
+    Eigen::VectorXf values;
+    double stamp;
+    float motion;
+  };
+  struct Track
+  {
+    std::deque<Frame> frames;
+    std::string published;  // last label published
+    // online
+    int since_classified = 0;
+    std::string candidate;
+    int candidate_count = 0;
+    bool active = false;       // a motion segment is open
+    double segment_start = 0;  // stamp where the motion began
+    double last_motion = 0;    // last stamp with motion above motion_off
+    bool published_in_segment = false;
+    std::string segment_label;
+    double published_start = 0;
+  };
+
+  std::vector<LabelEvent> addOnline(std::uint32_t id, Track& t);
+  std::optional<LabelEvent> closeSegment(std::uint32_t id, Track& t);
+  std::optional<Classification> classify(const Track& t, double from, double to, std::size_t* count) const;
+  bool stable(Track& t, const Classification& c) const;
+  bool publishable(const Classification& c) const;
+  double smoothedMotion(const Track& t) const;
+
+  std::shared_ptr<const ActionModel> model_;
+  SequenceClassifier classifier_;
+  PolicyParams params_;
+  bool use_motion_ = false;
+  Eigen::Index frame_length_ = 0;
+  std::map<std::uint32_t, Track> tracks_;
+};
+
+}  // namespace action_flow

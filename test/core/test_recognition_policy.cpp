@@ -1,0 +1,313 @@
+// The classifier's policy on hand-built frame descriptor streams: known segments give known labels
+// and times, stillness gives none, tracks never mix.
+#include <action_flow/posture_flow.h>
+#include <action_flow/recognition_policy.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace action_flow;
+
+namespace
+{
+constexpr double kFps = 30.0;
+
+// A posture_flow frame descriptor: the whole body in the coarsest cell, and for the two actions
+// flow of `speed` in one finest cell, upward and downward in turn (wave) or toward the camera (kick).
+Eigen::VectorXf frame(const std::string& what, int i, std::mt19937& rng, float speed = 0.15f)
+{
+  const PostureFlowDescriptor layout;
+  Eigen::VectorXf d = Eigen::VectorXf::Zero(layout.size());
+  std::normal_distribution<float> noise(0.0f, 0.003f);
+  d[0] = 1.0f;
+  d[layout.offset(1)] = 1.0f;
+  const int wave_cell = layout.offset(2) + kPostureFlowValuesPerCell * 60;  // high up
+  const int kick_cell = layout.offset(2) + kPostureFlowValuesPerCell * 3;   // low down
+  d[wave_cell] = 0.1f;
+  d[kick_cell] = 0.1f;
+  if (what == "wave")
+  {
+    const int bin = (i / 8) % 2 == 0 ? 3 : 4;  // +y, then -y
+    d[bin] = speed;
+    d[wave_cell + bin] = speed;
+    d[wave_cell] = 0.2f;
+  }
+  else if (what == "kick")
+  {
+    d[5] = speed;
+    d[kick_cell + 5] = speed;
+    d[kick_cell] = 0.25f;
+  }
+  for (int k = 0; k < d.size(); ++k)
+    d[k] = std::max(0.0f, d[k] + (k < 7 && k > 0 ? std::abs(noise(rng)) : noise(rng) * 0.1f));
+  return d;
+}
+
+std::shared_ptr<ActionModel> trainedModel()
+{
+  auto m = std::make_shared<ActionModel>();
+  m->params = defaultRecognitionParams();
+  m->params.pyramid.c = 1.0;
+  m->params.pyramid.flow = FlowEncoding::Bins;
+  m->params.pyramid.mirror = MirrorMode::Off;
+  std::mt19937 rng(7);
+  std::vector<Eigen::VectorXf> rows;
+  for (const std::string label : { "standing", "wave", "kick" })
+    for (int rep = 0; rep < 8; ++rep)
+    {
+      // Training samples have a little stillness before and after the action, as the datasets do.
+      std::vector<Eigen::VectorXf> frames;
+      std::vector<double> stamps;
+      const int n = 75 + 5 * rep;
+      for (int i = 0; i < n; ++i)
+      {
+        const bool lead = i < 12 || i >= n - 12;
+        frames.push_back(frame(lead ? "standing" : label, i, rng));
+        stamps.push_back(i / kFps);
+      }
+      rows.push_back(m->sequence(frames, stamps));
+      m->labels.push_back(label);
+      m->persons.push_back("p" + std::to_string(rep));
+    }
+  m->descriptors.resize(static_cast<Eigen::Index>(rows.size()), m->sequenceLength());
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    m->descriptors.row(static_cast<Eigen::Index>(r)) = rows[r].transpose();
+  m->linear = LinearClassifier::train(m->descriptors, m->labels, m->params.pyramid.c);
+  return m;
+}
+
+const std::shared_ptr<ActionModel>& model()
+{
+  static const std::shared_ptr<ActionModel> m = trainedModel();
+  return m;
+}
+
+struct Piece
+{
+  std::string what;
+  double seconds;
+};
+
+struct Published
+{
+  LabelEvent event;
+  double at;  // stamp of the frame that produced it
+};
+
+// Plays the pieces through the policy as track 1; returns every event with the stamp it came at.
+std::vector<Published> play(RecognitionPolicy& policy, const std::vector<Piece>& pieces, std::uint32_t id = 1)
+{
+  std::mt19937 rng(99);
+  std::vector<Published> out;
+  double t = 0.0;
+  int i = 0;
+  for (const Piece& p : pieces)
+    for (int k = 0; k < int(p.seconds * kFps); ++k, ++i)
+    {
+      t = i / kFps;
+      for (const LabelEvent& e : policy.add(id, frame(p.what, i, rng), t))
+        out.push_back({ e, t });
+    }
+  for (const LabelEvent& e : policy.end(id))
+    out.push_back({ e, t });
+  return out;
+}
+
+PolicyParams online()
+{
+  PolicyParams p;
+  p.mode = PolicyParams::Mode::Online;
+  return p;
+}
+
+}  // namespace
+
+TEST(RecognitionPolicy, ModelRecognisesItsOwnTrainingKinds)
+{
+  // The fixture itself: whole sequences of each kind classify as that kind.
+  PolicyParams p;
+  RecognitionPolicy policy(model(), p);
+  for (const std::string what : { "wave", "kick", "standing" })
+  {
+    const auto events = play(policy, { { what, 3.0 } });
+    ASSERT_EQ(events.size(), 1u) << what;
+    EXPECT_EQ(events[0].event.result.label, what);
+  }
+}
+
+TEST(RecognitionPolicy, OnlineKnownSegmentsGiveKnownLabelsAndTimes)
+{
+  RecognitionPolicy policy(model(), online());
+  ASSERT_TRUE(policy.usesMotion());
+  const auto events = play(policy, { { "standing", 2.0 }, { "wave", 2.0 }, { "standing", 2.0 }, { "kick", 2.0 },
+                                     { "standing", 2.0 } });
+  ASSERT_EQ(events.size(), 4u);
+  const PolicyParams& p = policy.params();
+  const char* labels[] = { "wave", "kick" };
+  for (int a = 0; a < 2; ++a)
+  {
+    const double start = 2.0 + 4.0 * a, end = start + 2.0;
+    const Published& started = events[2 * a];
+    const Published& ended = events[2 * a + 1];
+    EXPECT_EQ(started.event.kind, LabelEvent::Kind::Started);
+    EXPECT_EQ(started.event.result.label, labels[a]);
+    // Published while the action is under way, not before it has lasted min_segment.
+    EXPECT_GE(started.at, start + p.min_segment);
+    EXPECT_LT(started.at, end);
+    EXPECT_NEAR(started.event.start, start - p.pre_roll, 0.2);
+    EXPECT_EQ(ended.event.kind, LabelEvent::Kind::Ended);
+    EXPECT_TRUE(ended.event.closes_published);
+    EXPECT_EQ(ended.event.result.label, labels[a]);
+    EXPECT_NEAR(ended.event.end, end + p.post_roll, 0.2);
+    EXPECT_NEAR(ended.at, end + p.rest_time, 0.25);  // closed once the body rested rest_time
+  }
+}
+
+TEST(RecognitionPolicy, StillnessGivesNoLabel)
+{
+  RecognitionPolicy policy(model(), online());
+  EXPECT_TRUE(play(policy, { { "standing", 12.0 } }).empty());
+}
+
+TEST(RecognitionPolicy, IdleLabelsAreNeverPublished)
+{
+  // Without the motion gate, stillness reaches the classifier, which says "standing": an idle label.
+  PolicyParams p = online();
+  p.motion_segments = false;
+  RecognitionPolicy policy(model(), p);
+  EXPECT_FALSE(policy.usesMotion());
+  EXPECT_TRUE(play(policy, { { "standing", 8.0 } }).empty());
+  p.idle_labels.clear();
+  RecognitionPolicy no_idle(model(), p);
+  const auto events = play(no_idle, { { "standing", 8.0 } });
+  ASSERT_EQ(events.size(), 1u);  // published once, when stable, not again while it stays the same
+  EXPECT_EQ(events[0].event.result.label, "standing");
+}
+
+TEST(RecognitionPolicy, SlidingWindowPublishesEachChangeOnce)
+{
+  PolicyParams p = online();
+  p.motion_segments = false;
+  RecognitionPolicy policy(model(), p);
+  const auto events = play(policy, { { "wave", 5.0 }, { "kick", 5.0 } });
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].event.result.label, "wave");
+  EXPECT_EQ(events[1].event.result.label, "kick");
+  EXPECT_GT(events[1].at, 5.0);
+  EXPECT_GE(events[0].at, p.min_coverage * p.window);
+}
+
+TEST(RecognitionPolicy, RejectionThresholdSilencesUnsureLabels)
+{
+  PolicyParams p = online();
+  RecognitionPolicy sure(model(), p);
+  const auto events = play(sure, { { "standing", 1.0 }, { "wave", 2.0 }, { "standing", 2.0 } });
+  ASSERT_FALSE(events.empty());
+  const float confidence = events[0].event.result.confidence;
+  ASSERT_LT(confidence, 1.0f);
+  p.min_confidence = std::min(1.0, confidence + 0.05);
+  RecognitionPolicy strict(model(), p);
+  // Each classification of the segment is less sure than the threshold: nothing at all.
+  const auto none = play(strict, { { "standing", 1.0 }, { "wave", 2.0 }, { "standing", 2.0 } });
+  for (const auto& e : none)
+    EXPECT_GE(e.event.result.confidence, p.min_confidence);
+}
+
+TEST(RecognitionPolicy, WithoutEarlyLabelsTheWholeSegmentIsLabelledWhenItEnds)
+{
+  PolicyParams p = online();
+  p.publish_early = false;
+  RecognitionPolicy policy(model(), p);
+  const auto events = play(policy, { { "standing", 1.0 }, { "kick", 2.0 }, { "standing", 2.0 } });
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].event.kind, LabelEvent::Kind::Ended);
+  EXPECT_FALSE(events[0].event.closes_published);
+  EXPECT_EQ(events[0].event.result.label, "kick");
+  EXPECT_NEAR(events[0].event.start, 1.0 - p.pre_roll, 0.2);
+  EXPECT_NEAR(events[0].event.end, 3.0 + p.post_roll, 0.2);
+}
+
+TEST(RecognitionPolicy, ShortTwitchesAreIgnored)
+{
+  PolicyParams p = online();
+  RecognitionPolicy policy(model(), p);
+  EXPECT_TRUE(play(policy, { { "standing", 1.0 }, { "wave", 0.3 }, { "standing", 2.0 } }).empty());
+}
+
+TEST(RecognitionPolicy, TrackEndingMidActionClosesItsSegment)
+{
+  RecognitionPolicy policy(model(), online());
+  const auto events = play(policy, { { "standing", 1.0 }, { "kick", 2.5 } });
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[1].event.kind, LabelEvent::Kind::Ended);
+  EXPECT_EQ(events[1].event.result.label, "kick");
+  EXPECT_EQ(policy.tracks(), 0u);
+}
+
+TEST(RecognitionPolicy, SegmentedTracksNeverMix)
+{
+  RecognitionPolicy policy(model(), PolicyParams());
+  std::mt19937 rng(3);
+  for (int i = 0; i < 90; ++i)
+  {
+    EXPECT_TRUE(policy.add(1, frame(i < 15 || i >= 75 ? "standing" : "wave", i, rng), i / kFps).empty());
+    EXPECT_TRUE(policy.add(2, frame(i < 15 || i >= 75 ? "standing" : "kick", i, rng), i / kFps).empty());
+  }
+  EXPECT_EQ(policy.frames(1), 90u);
+  const auto one = policy.end(1);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0].kind, LabelEvent::Kind::Segmented);
+  EXPECT_EQ(one[0].result.label, "wave");
+  EXPECT_EQ(one[0].frames, 90u);
+  EXPECT_DOUBLE_EQ(one[0].end, 89 / kFps);
+  const auto two = policy.endAll();
+  ASSERT_EQ(two.size(), 1u);
+  EXPECT_EQ(two[0].track, 2u);
+  EXPECT_EQ(two[0].result.label, "kick");
+  EXPECT_EQ(policy.tracks(), 0u);
+}
+
+TEST(RecognitionPolicy, RestartAndTooShortSequences)
+{
+  PolicyParams p;
+  p.min_frames = 10;
+  RecognitionPolicy policy(model(), p);
+  std::mt19937 rng(5);
+  for (int i = 0; i < 30; ++i)
+    policy.add(4, frame("wave", i, rng), i / kFps);
+  policy.restart(4);
+  EXPECT_EQ(policy.frames(4), 0u);
+  for (int i = 0; i < 9; ++i)
+    policy.add(4, frame("wave", i, rng), 1.0 + i / kFps);
+  EXPECT_TRUE(policy.end(4).empty());  // 9 < min_frames
+  EXPECT_TRUE(policy.end(77).empty());  // unknown track
+}
+
+TEST(RecognitionPolicy, RefusesBadInput)
+{
+  EXPECT_THROW(RecognitionPolicy(nullptr, PolicyParams()), std::invalid_argument);
+  PolicyParams bad;
+  bad.motion_off = 0.1;
+  bad.motion_on = 0.05;
+  EXPECT_THROW(RecognitionPolicy(model(), bad), std::invalid_argument);
+  bad = PolicyParams();
+  bad.stable_count = 0;
+  EXPECT_THROW(RecognitionPolicy(model(), bad), std::invalid_argument);
+  RecognitionPolicy policy(model(), PolicyParams());
+  EXPECT_THROW(policy.add(1, Eigen::VectorXf::Zero(12), 0.0), std::invalid_argument);
+  EXPECT_THROW(policyModeFromString("sometimes"), std::invalid_argument);
+  EXPECT_EQ(policyModeFromString("online"), PolicyParams::Mode::Online);
+}
+
+TEST(PostureFlowDescriptor, MotionIsTheWholeBodyFlow)
+{
+  const PostureFlowDescriptor layout;
+  Eigen::VectorXf d = Eigen::VectorXf::Zero(layout.size());
+  d[0] = 1.0f;   // posture: not motion
+  d[1] = 0.1f;   // +x
+  d[6] = 0.05f;  // -z
+  d[layout.offset(1) + 1] = 0.7f;  // a finer level: not counted twice
+  EXPECT_FLOAT_EQ(PostureFlowDescriptor::motion(d), 0.15f);
+  EXPECT_THROW(PostureFlowDescriptor::motion(Eigen::VectorXf::Zero(3)), std::invalid_argument);
+}
