@@ -1,10 +1,12 @@
 # Offline tools: train and evaluate, and the evaluation library they share.
-add_library(action_flow_eval src/eval/evaluation.cpp)
+add_library(action_flow_eval src/eval/evaluation.cpp src/eval/stream_scoring.cpp)
 target_link_libraries(action_flow_eval action_flow_core)
 
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_evaluation test/eval/test_evaluation.cpp)
   target_link_libraries(test_evaluation action_flow_eval gtest_main)
+  catkin_add_gtest(test_stream_scoring test/eval/test_stream_scoring.cpp)
+  target_link_libraries(test_stream_scoring action_flow_eval gtest_main)
 endif()
 
 # The tools run the people tracker and render with the virtual Kinect.
