@@ -68,12 +68,13 @@ public:
   Eigen::VectorXf mirrored(const Eigen::VectorXf& descriptor) const;
 
   /**
-   * @brief The body's motion energy in a descriptor: the whole-body cell's six flow bins summed,
-   *        i.e. the mean over the person's points of |vx| + |vy| + |vz| (m/s; 0 without flow).
-   *        The online mode opens and closes action segments on it.
-   * @throws std::invalid_argument on a descriptor shorter than one cell
+   * @brief How much the body's shape changed between two descriptors: the L1 distance of the
+   *        finest level's posture shares (0: the same shape; 2: no cell in common). The online mode
+   *        cuts actions on its rate: on the recordings it separates gestures from stillness far
+   *        better than the flow, whose per-point noise (about one voxel per frame) hides an arm.
+   * @throws std::invalid_argument on descriptors of the wrong length
    */
-  static float motion(const Eigen::VectorXf& descriptor);
+  float postureChange(const Eigen::VectorXf& a, const Eigen::VectorXf& b) const;
 
 private:
   GridDescriptor grid_;  // the finest level's geometry

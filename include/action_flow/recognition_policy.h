@@ -6,10 +6,10 @@
  *        messages and publishes what this decides, and `evaluate --protocol online` runs the
  *        same class on recorded streams.
  *
- * Online, with a model whose frame descriptors carry the body's motion (posture_flow): a track's
- * motion energy (the mean speed of its points, smoothed over motion_smooth seconds) opens a
- * segment when it rises above motion_on and closes it when it has stayed below motion_off for
- * rest_time seconds. The segment's frames, with pre_roll and post_roll seconds of stillness
+ * Online, with a model whose frame descriptors carry the body's shape (posture_flow): a track's
+ * motion (how fast its shape changes: PostureFlowDescriptor::postureChange over motion_lag
+ * seconds, per second, smoothed over motion_smooth seconds) opens a segment when it rises above
+ * motion_on and closes it when it has stayed below motion_off for rest_time seconds. The segment's frames, with pre_roll and post_roll seconds of stillness
  * around them (the training samples have such lead-ins), are classified every classify_every
  * frames while it is open; once stable_count classifications in a row agree, with confidence at
  * least min_confidence and a label that is not an idle label, the label is published (Started).
@@ -17,13 +17,14 @@
  * none was, the whole segment is classified once and published if it passes the same tests
  * (Ended too). Stillness between actions therefore produces no label at all.
  *
- * With a model whose descriptors carry no motion (the paper's), online falls back to a sliding
+ * With a model whose descriptors carry no shape (the paper's), online falls back to a sliding
  * window of the last `window` seconds, with the same stability and rejection rules; a label is
  * published when it differs from the last one published for that track.
  */
 #pragma once
 
 #include <action_flow/action_model.h>
+#include <action_flow/posture_flow.h>
 
 #include <Eigen/Core>
 
@@ -54,9 +55,10 @@ struct PolicyParams
   std::vector<std::string> idle_labels = { "standing" };
   /** Online: use motion segments when the model's descriptors carry motion (else the sliding window). */
   bool motion_segments = true;
-  double motion_on = 0.06;        ///< m/s: smoothed motion energy that opens a segment
-  double motion_off = 0.035;      ///< m/s: below this the body counts as still
-  double motion_smooth = 0.3;     ///< s: moving mean of the motion energy
+  double motion_on = 0.5;         ///< 1/s: smoothed shape change rate that opens a segment
+  double motion_off = 0.3;        ///< 1/s: below this the body counts as still
+  double motion_lag = 0.2;        ///< s: the shape is compared with the one this long before
+  double motion_smooth = 0.3;     ///< s: moving mean of the shape change rate
   double rest_time = 0.5;         ///< s of stillness that close a segment
   double pre_roll = 0.4;          ///< s of frames before the segment's start that are classified with it
   double post_roll = 0.4;         ///< s after its end, likewise
@@ -161,6 +163,7 @@ private:
 
   std::shared_ptr<const ActionModel> model_;
   SequenceClassifier classifier_;
+  PostureFlowDescriptor layout_;
   PolicyParams params_;
   bool use_motion_ = false;
   Eigen::Index frame_length_ = 0;

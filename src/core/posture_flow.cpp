@@ -87,12 +87,20 @@ Eigen::VectorXf PostureFlowDescriptor::compute(const Cloud& cloud, const FlowVec
   return d;
 }
 
-float PostureFlowDescriptor::motion(const Eigen::VectorXf& descriptor)
+float PostureFlowDescriptor::postureChange(const Eigen::VectorXf& a, const Eigen::VectorXf& b) const
 {
-  if (descriptor.size() < kPostureFlowValuesPerCell)
-    throw std::invalid_argument("PostureFlowDescriptor::motion: descriptor of length " +
-                                std::to_string(descriptor.size()));
-  return descriptor.segment<kPostureFlowValuesPerCell - 1>(1).sum();  // level 0 comes first: one cell
+  if (a.size() != size() || b.size() != size())
+    throw std::invalid_argument("PostureFlowDescriptor::postureChange: descriptors of length " +
+                                std::to_string(a.size()) + " and " + std::to_string(b.size()) + ", expected " +
+                                std::to_string(size()));
+  const int finest = kLevels - 1;
+  float change = 0.0f;
+  for (int c = 0; c < cells(finest); ++c)
+  {
+    const int at = offset(finest) + kPostureFlowValuesPerCell * c;
+    change += std::abs(a[at] - b[at]);
+  }
+  return change;
 }
 
 Eigen::VectorXf PostureFlowDescriptor::mirrored(const Eigen::VectorXf& in) const

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 
 namespace action_flow
@@ -24,11 +25,11 @@ void PolicyParams::validate() const
   require(stable_count >= 1, "stable_count >= 1");
   require(min_confidence >= 0.0 && min_confidence <= 1.0, "min_confidence in [0,1]");
   require(motion_on > 0.0 && motion_off > 0.0 && motion_off <= motion_on, "0 < motion_off <= motion_on");
-  require(motion_smooth >= 0.0 && rest_time > 0.0, "motion_smooth >= 0, rest_time > 0");
+  require(motion_smooth >= 0.0 && rest_time > 0.0 && motion_lag > 0.0, "motion_smooth >= 0, rest_time > 0, motion_lag > 0");
   require(pre_roll >= 0.0 && post_roll >= 0.0 && post_roll <= rest_time, "pre_roll >= 0, 0 <= post_roll <= rest_time");
   require(min_segment >= 0.0 && max_segment > min_segment, "0 <= min_segment < max_segment");
   require(window > 0.0 && min_coverage >= 0.0 && min_coverage <= 1.0, "window > 0, min_coverage in [0,1]");
-  for (double v : { motion_on, motion_off, motion_smooth, rest_time, pre_roll, post_roll, min_segment, max_segment,
+  for (double v : { motion_on, motion_off, motion_lag, motion_smooth, rest_time, pre_roll, post_roll, min_segment, max_segment,
                     window, min_coverage, min_confidence })
     require(std::isfinite(v), "finite values");
 }
@@ -49,6 +50,8 @@ RecognitionPolicy::RecognitionPolicy(std::shared_ptr<const ActionModel> model, c
   params_.validate();
   use_motion_ = params_.motion_segments && model_->params.recognizer == Recognizer::PostureFlow;
   frame_length_ = frameDescriptorLength(model_->params);
+  if (use_motion_)
+    layout_ = PostureFlowDescriptor(model_->params.grid);
 }
 
 std::vector<LabelEvent> RecognitionPolicy::add(std::uint32_t id, const Eigen::VectorXf& frame, double stamp)
@@ -57,7 +60,15 @@ std::vector<LabelEvent> RecognitionPolicy::add(std::uint32_t id, const Eigen::Ve
     throw std::invalid_argument("frame descriptor of length " + std::to_string(frame.size()) + ", the model's are " +
                                 std::to_string(frame_length_));
   Track& t = tracks_[id];
-  const float motion = use_motion_ ? PostureFlowDescriptor::motion(frame) : 0.0f;
+  float motion = 0.0f;
+  if (use_motion_)  // shape change per second against the frame motion_lag before (or the oldest held)
+    for (auto it = t.frames.rbegin(); it != t.frames.rend(); ++it)
+      if (it->stamp <= stamp - params_.motion_lag || std::next(it) == t.frames.rend())
+      {
+        if (stamp > it->stamp)
+          motion = layout_.postureChange(frame, it->values) / static_cast<float>(stamp - it->stamp);
+        break;
+      }
   t.frames.push_back({ frame, stamp, motion });
   if (params_.mode == PolicyParams::Mode::Segmented)
     return {};
@@ -119,7 +130,7 @@ std::vector<LabelEvent> RecognitionPolicy::addOnline(std::uint32_t id, Track& t)
   const double motion = smoothedMotion(t);
   if (!t.active)
   {
-    trim(params_.pre_roll + params_.motion_smooth);
+    trim(params_.pre_roll + params_.motion_smooth + params_.motion_lag);
     if (motion <= params_.motion_on)
       return {};
     t.active = true;

@@ -60,6 +60,7 @@ PolicyParams readPolicyParams(const ros::NodeHandle& nh)
   nh.param("motion_segments", p.motion_segments, p.motion_segments);
   nh.param("motion_on", p.motion_on, p.motion_on);
   nh.param("motion_off", p.motion_off, p.motion_off);
+  nh.param("motion_lag", p.motion_lag, p.motion_lag);
   nh.param("motion_smooth", p.motion_smooth, p.motion_smooth);
   nh.param("rest_time", p.rest_time, p.rest_time);
   nh.param("pre_roll", p.pre_roll, p.pre_roll);

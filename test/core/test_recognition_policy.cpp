@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 using namespace action_flow;
@@ -13,8 +14,9 @@ namespace
 {
 constexpr double kFps = 30.0;
 
-// A posture_flow frame descriptor: the whole body in the coarsest cell, and for the two actions
-// flow of `speed` in one finest cell, upward and downward in turn (wave) or toward the camera (kick).
+// A posture_flow frame descriptor: the whole body in the coarsest cell, and for the two actions a
+// body part that comes and goes in one finest cell (its share of the points swings, as an arm's
+// does) with flow of `speed` there, upward and downward in turn (wave) or toward the camera (kick).
 Eigen::VectorXf frame(const std::string& what, int i, std::mt19937& rng, float speed = 0.15f)
 {
   const PostureFlowDescriptor layout;
@@ -31,13 +33,13 @@ Eigen::VectorXf frame(const std::string& what, int i, std::mt19937& rng, float s
     const int bin = (i / 8) % 2 == 0 ? 3 : 4;  // +y, then -y
     d[bin] = speed;
     d[wave_cell + bin] = speed;
-    d[wave_cell] = 0.2f;
+    d[wave_cell] = 0.2f + 0.15f * std::sin(2.0f * 3.14159f * i / 15.0f);
   }
   else if (what == "kick")
   {
     d[5] = speed;
     d[kick_cell + 5] = speed;
-    d[kick_cell] = 0.25f;
+    d[kick_cell] = 0.25f + 0.15f * std::sin(2.0f * 3.14159f * i / 20.0f);
   }
   for (int k = 0; k < d.size(); ++k)
     d[k] = std::max(0.0f, d[k] + (k < 7 && k > 0 ? std::abs(noise(rng)) : noise(rng) * 0.1f));
@@ -300,14 +302,17 @@ TEST(RecognitionPolicy, RefusesBadInput)
   EXPECT_EQ(policyModeFromString("online"), PolicyParams::Mode::Online);
 }
 
-TEST(PostureFlowDescriptor, MotionIsTheWholeBodyFlow)
+TEST(PostureFlowDescriptor, PostureChangeIsTheFinestSharesL1Distance)
 {
   const PostureFlowDescriptor layout;
-  Eigen::VectorXf d = Eigen::VectorXf::Zero(layout.size());
-  d[0] = 1.0f;   // posture: not motion
-  d[1] = 0.1f;   // +x
-  d[6] = 0.05f;  // -z
-  d[layout.offset(1) + 1] = 0.7f;  // a finer level: not counted twice
-  EXPECT_FLOAT_EQ(PostureFlowDescriptor::motion(d), 0.15f);
-  EXPECT_THROW(PostureFlowDescriptor::motion(Eigen::VectorXf::Zero(3)), std::invalid_argument);
+  Eigen::VectorXf a = Eigen::VectorXf::Zero(layout.size()), b = a;
+  a[layout.offset(2)] = 0.6f;  // finest cell 0
+  a[layout.offset(2) + kPostureFlowValuesPerCell * 5] = 0.4f;
+  b[layout.offset(2)] = 0.5f;
+  b[layout.offset(2) + kPostureFlowValuesPerCell * 9] = 0.5f;
+  b[layout.offset(2) + 1] = 3.0f;  // flow: not shape
+  b[layout.offset(1)] = 0.9f;      // a coarser level: not counted twice
+  EXPECT_FLOAT_EQ(layout.postureChange(a, b), 0.1f + 0.4f + 0.5f);
+  EXPECT_FLOAT_EQ(layout.postureChange(b, b), 0.0f);
+  EXPECT_THROW(layout.postureChange(a, Eigen::VectorXf::Zero(3)), std::invalid_argument);
 }
