@@ -497,16 +497,9 @@ void walkPose(Context& c, Pose& p, double t, double t0, double t1, float len, fl
   p.feet_in_body_frame = false;
 }
 
-}  // namespace
-
-Performance perform(const Actor& actor, const std::string& action, std::uint64_t rep_seed, double fps)
+// The actor's traits jittered for one repetition, drawn from style and rep in a fixed order.
+Context makeContext(const Actor& actor, Rng& style, Rng& rep)
 {
-  const auto& table = actionTable();
-  const auto it = table.find(action);
-  if (it == table.end())
-    throw std::invalid_argument("unknown action '" + action + "'");
-  Rng style(hash64(actor.style_seed, hashString(action), 0x5717e));
-  Rng rep(hash64(rep_seed, 0x7e9));
   Context c;
   c.actor = &actor;
   c.dm = Dims(actor.shape.height);
@@ -519,6 +512,20 @@ Performance perform(const Actor& actor, const std::string& action, std::uint64_t
   for (float& ph : c.sway_phase)
     ph = float(rep.uniform(0, 2 * kPi));
   c.stance = float(style.uniform(0.0, 0.06)) * c.sc;
+  return c;
+}
+
+}  // namespace
+
+Performance perform(const Actor& actor, const std::string& action, std::uint64_t rep_seed, double fps)
+{
+  const auto& table = actionTable();
+  const auto it = table.find(action);
+  if (it == table.end())
+    throw std::invalid_argument("unknown action '" + action + "'");
+  Rng style(hash64(actor.style_seed, hashString(action), 0x5717e));
+  Rng rep(hash64(rep_seed, 0x7e9));
+  Context c = makeContext(actor, style, rep);
 
   const double idle_before = rep.uniform(0.3, 0.8), idle_after = rep.uniform(0.3, 0.8);
   Performance perf;
@@ -538,6 +545,8 @@ Performance perform(const Actor& actor, const std::string& action, std::uint64_t
   const Eigen::Vector3f chair(-0.3f * c.sc, 0, 0.46f);
   perf.uses_chair = action == "get_up" || action == "sit_down";
   perf.chair = chair;
+  perf.core_first = std::min(frames - 1, int(std::ceil(idle_before * fps - 1e-6)));
+  perf.core_last = std::clamp(int(std::floor((idle_before + core) * fps + 1e-6)), perf.core_first, frames - 1);
   perf.joints.reserve(frames);
   perf.forward.reserve(frames);
   // The random draws of the generators must not depend on the frame: fix their sequence by
@@ -559,6 +568,23 @@ Performance perform(const Actor& actor, const std::string& action, std::uint64_t
       it->second.apply(c, p, u, float(t - idle_before));
     }
     const Posed posed = solvePose(c.dm, p);
+    perf.joints.push_back(posed.joints);
+    perf.forward.push_back(posed.forward);
+  }
+  return perf;
+}
+
+Performance performIdle(const Actor& actor, std::uint64_t rep_seed, double fps, int frames)
+{
+  Rng style(hash64(actor.style_seed, hashString("idle"), 0x5717e));
+  Rng rep(hash64(rep_seed, 0x1d1e));
+  const Context c = makeContext(actor, style, rep);
+  Performance perf;
+  frames = std::max(1, frames);
+  perf.core_last = frames - 1;
+  for (int i = 0; i < frames; ++i)
+  {
+    const Posed posed = solvePose(c.dm, idlePose(c, i / fps));
     perf.joints.push_back(posed.joints);
     perf.forward.push_back(posed.forward);
   }

@@ -20,10 +20,33 @@ struct Performance
   bool uses_chair = false;                    // sit_down / get_up: a chair stands behind the start
   Eigen::Vector3f chair = Eigen::Vector3f::Zero();  // seat centre (x, y) and seat height (z), root frame
   bool walks = false;                         // walk: the root faces along the path, not the camera
+  // The action itself, between the idle lead-in and lead-out: frames core_first..core_last (inclusive).
+  int core_first = 0, core_last = 0;
 };
 
 /** @brief Generates the frames of @p action performed by @p actor at @p fps; rep_seed varies the repetition. */
 Performance perform(const Actor& actor, const std::string& action, std::uint64_t rep_seed, double fps);
+
+/** @brief @p frames frames of the plain idle body (breathing, sway), no action; core = all frames. */
+Performance performIdle(const Actor& actor, std::uint64_t rep_seed, double fps, int frames);
+
+/** A stream of actions in the world frame (floor origin below the camera, x away from it, z up). */
+struct StreamMotion
+{
+  std::vector<Skeleton> joints;               // per frame, world
+  std::vector<Eigen::Vector3f> forward;       // per frame, body facing, world
+  std::vector<StreamSegment> segments;        // the cores of the performed actions, in order
+  std::vector<Eigen::Vector4f> chairs;        // seat centre (x, y), seat height, facing yaw (world)
+};
+
+/**
+ * @brief Composes @p actor performing @p actions in a row at @p fps (see docs/synth.md, "Streams"):
+ *        idle lead-in and lead-out of 1-2 s, between two actions a transition of 0.4-0.8 s into an
+ *        idle period of 0.5-3 s (seated between sit_down and get_up) and another transition into
+ *        the next action. Deterministic in @p stream_seed.
+ */
+StreamMotion composeStream(const Actor& actor, const std::vector<std::string>& actions, std::uint64_t stream_seed,
+                           double fps);
 
 }  // namespace synth
 }  // namespace action_flow

@@ -1,5 +1,5 @@
-// Actors, the sample lists of both datasets, and the per-sample renderer (placement of the actor in
-// view, camera pose, room, MSR skeleton conversion and resampling).
+// Actors, the sample lists of the datasets, and the per-sample renderer (placement of the actor in
+// view, camera pose, room, streams' ground truth, MSR skeleton conversion and resampling).
 #include <action_flow/synth/synth.h>
 
 #include "motion.h"
@@ -81,6 +81,8 @@ std::string SampleSpec::name() const
     std::snprintf(buf, sizeof buf, "a%02d_s%02d_e%02d", a, s, repetition);
     return buf;
   }
+  if (dataset == "stream")
+    return person + "_stream_" + std::to_string(repetition);
   return person + "_" + action + "_" + std::to_string(repetition);
 }
 
@@ -232,9 +234,13 @@ struct SampleRenderer::Impl
   std::unique_ptr<SceneRenderer> scene;
   std::uint64_t noise_seed = 0;
   int frames = 0;
+  std::string label;
+  std::vector<StreamSegment> segments;
 
   void buildIas();
+  void buildStream();
   void buildMsr();
+  void drawCamera(Rng& r);
   bool visible(const std::vector<Skeleton>& joints, int step) const;
 };
 
@@ -260,7 +266,29 @@ Skeleton transformed(const Skeleton& s, const Eigen::Isometry3f& t)
     o.joints[k] = t * s.joints[k];
   return o;
 }
+
+Material chairWood(std::uint64_t seed)
+{
+  Material wood;
+  wood.base = Rgb(0.45f, 0.28f, 0.15f);
+  wood.grain = 0.1f;
+  wood.seed = std::uint32_t(seed + 9);
+  return wood;
+}
+
+// The chair by the right wall, where it stands when nobody sits on it.
+void addSpareChair(Room& room, std::uint64_t seed)
+{
+  for (const Box& b : Room::chair(3.6f, 1.75f, -2.2f, 0.46f, chairWood(seed)))
+    room.boxes.push_back(b);
+}
 }  // namespace
+
+void SampleRenderer::Impl::drawCamera(Rng& r)
+{
+  camera.height_above_floor = 1.1 + r.uniform(-0.04, 0.04);
+  camera.tilt = 0.08 + r.uniform(-0.03, 0.03);
+}
 
 bool SampleRenderer::Impl::visible(const std::vector<Skeleton>& joints, int step) const
 {
@@ -295,8 +323,7 @@ void SampleRenderer::Impl::buildIas()
   actor = makeActor(spec.person, spec.seed);
   const std::uint64_t rep_seed = hash64(spec.seed, hashString(spec.name()), 0x4e9);
   Rng r(hash64(rep_seed, 0x91ace));
-  camera.height_above_floor = 1.1 + r.uniform(-0.04, 0.04);
-  camera.tilt = 0.08 + r.uniform(-0.03, 0.03);
+  drawCamera(r);
   const Performance perf = perform(actor, spec.action, rep_seed, camera.fps);
 
   // Place the actor: 2.5-3.5 m away, facing the camera within +-30 degrees (walkers cross the
@@ -340,22 +367,40 @@ void SampleRenderer::Impl::buildIas()
     forward[f] = root.linear() * perf.forward[f];
 
   Room room = Room::lab(std::uint32_t(spec.seed));
-  Material wood;
-  wood.base = Rgb(0.45f, 0.28f, 0.15f);
-  wood.grain = 0.1f;
-  wood.seed = std::uint32_t(spec.seed + 9);
   if (perf.uses_chair)
   {
     const Eigen::Vector3f c = root * Eigen::Vector3f(perf.chair.x(), perf.chair.y(), 0);
     const float yaw = std::atan2(root.linear()(1, 0), root.linear()(0, 0));
-    for (const Box& b : Room::chair(c.x(), c.y(), yaw, perf.chair.z(), wood))
+    for (const Box& b : Room::chair(c.x(), c.y(), yaw, perf.chair.z(), chairWood(spec.seed)))
       room.boxes.push_back(b);
   }
   else
-  {
-    for (const Box& b : Room::chair(3.6f, 1.75f, -2.2f, 0.46f, wood))
+    addSpareChair(room, spec.seed);
+  scene.reset(new SceneRenderer(camera, room));
+  segments = { { spec.action, 0, int(world.size()) - 1 } };
+}
+
+void SampleRenderer::Impl::buildStream()
+{
+  const std::vector<std::string> actions = streamActions(spec);  // validates the spec
+  actor = makeActor(spec.person, spec.seed);
+  const std::uint64_t stream_seed = hash64(spec.seed, hashString(spec.name()), 0x4e9);
+  Rng r(hash64(stream_seed, 0x91ace));
+  drawCamera(r);
+  StreamMotion motion = composeStream(actor, actions, stream_seed, camera.fps);
+  world = std::move(motion.joints);
+  forward = std::move(motion.forward);
+  segments = std::move(motion.segments);
+  label = "stream";
+
+  // Every chair sat on stands in the room from the start (behind the actor while they do other
+  // things there).
+  Room room = Room::lab(std::uint32_t(spec.seed));
+  for (const Eigen::Vector4f& c : motion.chairs)
+    for (const Box& b : Room::chair(c.x(), c.y(), c.w(), c.z(), chairWood(spec.seed)))
       room.boxes.push_back(b);
-  }
+  if (motion.chairs.empty())
+    addSpareChair(room, spec.seed);
   scene.reset(new SceneRenderer(camera, room));
 }
 
@@ -447,21 +492,20 @@ void SampleRenderer::Impl::buildMsr()
     forward[i] = fwd.norm() > 1e-4f ? Eigen::Vector3f(fwd.normalized()) : Eigen::Vector3f(-1, 0, 0);
   }
   Room room = Room::lab(std::uint32_t(spec.seed));
-  Material wood;
-  wood.base = Rgb(0.45f, 0.28f, 0.15f);
-  wood.grain = 0.1f;
-  wood.seed = std::uint32_t(spec.seed + 9);
-  for (const Box& b : Room::chair(3.6f, 1.75f, -2.2f, 0.46f, wood))
-    room.boxes.push_back(b);
+  addSpareChair(room, spec.seed);
   scene.reset(new SceneRenderer(camera, room));
+  segments = { { spec.action, 0, out_n - 1 } };
 }
 
 SampleRenderer::SampleRenderer(const SampleSpec& spec, const CameraModel& camera) : impl_(new Impl)
 {
   impl_->spec = spec;
   impl_->camera = camera;
+  impl_->label = spec.action;
   if (spec.dataset == "ias")
     impl_->buildIas();
+  else if (spec.dataset == "stream")
+    impl_->buildStream();
   else if (spec.dataset == "msr")
   {
     if (spec.skeleton_file.empty())
@@ -469,18 +513,35 @@ SampleRenderer::SampleRenderer(const SampleSpec& spec, const CameraModel& camera
     impl_->buildMsr();
   }
   else
-    throw std::invalid_argument("unknown dataset '" + spec.dataset + "' (expected ias or msr)");
+    throw std::invalid_argument("unknown dataset '" + spec.dataset + "' (expected ias, stream or msr)");
   impl_->noise_seed = hash64(spec.seed, hashString(spec.dataset + "/" + spec.name()), 0x4015e);
   impl_->frames = int(impl_->world.size());
   if (spec.max_frames > 0)
     impl_->frames = std::min(impl_->frames, spec.max_frames);
+  // Ground truth of the frames kept: segments past the end dropped, the one cut clipped.
+  auto& segs = impl_->segments;
+  segs.erase(std::remove_if(segs.begin(), segs.end(), [&](const StreamSegment& s) { return s.first >= impl_->frames; }),
+             segs.end());
+  for (StreamSegment& s : segs)
+    s.last = std::min(s.last, impl_->frames - 1);
 }
 
 SampleRenderer::~SampleRenderer() = default;
 
 const SampleSpec& SampleRenderer::spec() const { return impl_->spec; }
-const std::string& SampleRenderer::label() const { return impl_->spec.action; }
+const std::string& SampleRenderer::label() const { return impl_->label; }
 int SampleRenderer::frames() const { return impl_->frames; }
+const std::vector<StreamSegment>& SampleRenderer::segments() const { return impl_->segments; }
+
+std::string SampleRenderer::actionAt(int i) const
+{
+  if (i < 0 || i >= impl_->frames)
+    throw std::out_of_range("frame " + std::to_string(i) + " outside [0, " + std::to_string(impl_->frames) + ")");
+  const auto& segs = impl_->segments;
+  // The first segment ending at or after i holds it if it starts at or before i.
+  const auto it = std::lower_bound(segs.begin(), segs.end(), i, [](const StreamSegment& s, int f) { return s.last < f; });
+  return it != segs.end() && it->first <= i ? it->action : std::string();
+}
 double SampleRenderer::stamp(int i) const { return kStampBase + i / impl_->camera.fps; }
 const CameraModel& SampleRenderer::camera() const { return impl_->camera; }
 const SceneRenderer& SampleRenderer::scene() const { return *impl_->scene; }

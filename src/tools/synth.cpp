@@ -1,5 +1,6 @@
-// synth: renders the synthetic IAS-Lab-style dataset or the MSR Action3D skeletons as Kinect bags
-// (one per sample, plus index.csv), or preview images. See docs/synth.md.
+// synth: renders the synthetic IAS-Lab-style dataset, its continuous streams of actions or the MSR
+// Action3D skeletons as Kinect bags (one per sample, plus index.csv), or preview images. See
+// docs/synth.md.
 #include "synth_bag.h"
 
 #include <action_flow/synth/synth.h>
@@ -35,11 +36,16 @@ const char* kUsage = R"(usage: synth [options]
 Renders one bag per sample (in the layout of a Kinect recorded with the ROS OpenNI driver) into
 OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
 
-  --dataset ias|msr      ias: synthetic actors, 15 IAS-Lab actions (default); msr: MSR Action3D skeletons
+  --dataset ias|stream|msr   ias: synthetic actors, 15 IAS-Lab actions (default); stream: the same
+                         actors performing actions in a row (pNN_stream_R.bag with /ground_truth/action,
+                         and pNN_stream_R_segments.csv); msr: MSR Action3D skeletons
   --skeletons DIR        msr: folder of aAA_sSS_eEE_skeleton3D.txt files (required for msr)
   --all-msr              msr: also sequences not in files_used_in_cvpr12_paper.txt
-  --people N             ias: number of actors (default 12)
+  --people N             ias, stream: number of actors (default 12)
   --repetitions N        ias: repetitions of each action (default 3)
+  --first-person K       stream: the actors are pK.. (default 1)
+  --streams S            stream: streams per actor (default 2)
+  --stream-actions A     stream: actions per stream (default 8; sit_down + get_up count as two)
   --seed N               dataset seed (default 1); same seed, byte-identical output
   --person ID, --action NAME, --repetition N   render only matching samples
   --every N              only every Nth selected sample (a spread-out subset, e.g. for timing)
@@ -52,7 +58,8 @@ OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
   --raw-images           sensor_msgs/Image topics instead of <topic>/compressed (JPEG colour, PNG depth)
   --compression none|lz4|bz2   bag chunk compression (default lz4)
   --jpeg-quality Q       colour JPEG quality 1-100 (default 80)
-  --points-topic T, --rgb-topic T, --depth-topic T, --info-topic T, --mask-topic T, --tf-topic T
+  --points-topic T, --rgb-topic T, --depth-topic T, --info-topic T, --mask-topic T, --tf-topic T,
+  --action-topic T       topic names (the last: a stream's ground-truth action, /ground_truth/action)
   --list                 print the selected samples and exit
   --preview              write PNGs instead of bags: OUT/<sample>_fNNN_color.png and _depth.png
   --preview-at F         preview frame as a fraction of the sample (default 0.5); may repeat
@@ -153,6 +160,7 @@ int main(int argc, char** argv)
   std::string dataset = "ias", skeletons, out = "synth_data", montage;
   std::string only_person, only_action;
   int only_rep = 0, every = 1, people = 12, repetitions = 3, limit = 0, max_frames = 0, jobs = 1;
+  int first_person = 1, streams = 2, stream_actions = 8;
   std::uint64_t seed = 1;
   bool all_msr = false, skip_existing = false, list = false, preview = false, quiet = false;
   std::vector<double> preview_at;
@@ -180,6 +188,12 @@ int main(int argc, char** argv)
       people = toInt(a, value(), 1, 99);
     else if (a == "--repetitions")
       repetitions = toInt(a, value(), 1, 99);
+    else if (a == "--first-person")
+      first_person = toInt(a, value(), 1, 99);
+    else if (a == "--streams")
+      streams = toInt(a, value(), 1, 99);
+    else if (a == "--stream-actions")
+      stream_actions = toInt(a, value(), 1, 99);
     else if (a == "--seed")
       seed = std::uint64_t(toInt(a, value(), 0, 2147483647));
     else if (a == "--person")
@@ -220,6 +234,8 @@ int main(int argc, char** argv)
       bag.mask_topic = value();
     else if (a == "--tf-topic")
       bag.tf_topic = value();
+    else if (a == "--action-topic")
+      bag.action_topic = value();
     else if (a == "--list")
       list = true;
     else if (a == "--preview")
@@ -255,6 +271,8 @@ int main(int argc, char** argv)
   {
     if (dataset == "ias")
       specs = iasLabSamples(people, repetitions, seed);
+    else if (dataset == "stream")
+      specs = streamSamples(first_person, people, streams, stream_actions, seed);
     else if (dataset == "msr")
     {
       if (skeletons.empty())
@@ -262,7 +280,7 @@ int main(int argc, char** argv)
       specs = msrSamples(skeletons, seed, !all_msr);
     }
     else
-      fail("--dataset must be ias or msr, got '" + dataset + "'");
+      fail("--dataset must be ias, stream or msr, got '" + dataset + "'");
   }
   catch (const std::exception& e)
   {
@@ -341,6 +359,10 @@ int main(int argc, char** argv)
           if (!(skip_existing && fs::exists(path)) &&
               !writeSampleBag(sample, path.string(), bag, &g_cancel, [&]() { progress.frame(); }))
             return;  // interrupted; the temporary file is gone
+          // A stream's ground truth beside its bag (after it: a bag without one is completed by
+          // --skip-existing).
+          if (spec.dataset == "stream")
+            writeSegmentsCsv(sample, (dir / (spec.name() + "_segments.csv")).string());
           frames_of[k] = sample.frames();
         }
         progress.sample();

@@ -10,6 +10,7 @@
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/String.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <opencv2/core.hpp>
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <stdexcept>
 
 namespace action_flow
@@ -88,7 +90,7 @@ std::vector<std::uint16_t> depthToMillimetres(const std::vector<float>& depth)
   return mm;
 }
 
-std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& o)
+std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& o, const std::string& dataset)
 {
   std::vector<std::pair<std::string, std::string>> t;
   if (o.raw_images)
@@ -107,6 +109,8 @@ std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& o)
   t.emplace_back(o.tf_topic, "tf2_msgs/TFMessage");
   if (o.points)
     t.emplace_back(o.points_topic, "sensor_msgs/PointCloud2");
+  if (dataset == "stream")
+    t.emplace_back(o.action_topic, "std_msgs/String");
   return t;
 }
 
@@ -126,6 +130,7 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
     throw std::runtime_error("jpeg quality must be 1..100 and png level 0..9");
 
   const std::string tmp = path + ".tmp";
+  const bool stream = sample.spec().dataset == "stream";
   const CameraModel& cam = sample.camera();
   const int w = cam.width, h = cam.height;
   try
@@ -234,6 +239,12 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
         msg.header = header;
         bag.write(o.points_topic, stamp, msg);
       }
+      if (stream)
+      {
+        std_msgs::String action;
+        action.data = sample.actionAt(i);
+        bag.write(o.action_topic, stamp, action);
+      }
       if (on_frame)
         on_frame();
     }
@@ -250,6 +261,32 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
     throw std::runtime_error(path + ": cannot rename the finished bag into place");
   }
   return true;
+}
+
+void writeSegmentsCsv(const SampleRenderer& sample, const std::string& path)
+{
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream csv(tmp);
+    csv << "action,first_frame,last_frame,start,end\n";
+    char buf[64];
+    for (const StreamSegment& s : sample.segments())
+    {
+      std::snprintf(buf, sizeof buf, ",%d,%d,%.6f,%.6f\n", s.first, s.last, sample.stamp(s.first), sample.stamp(s.last));
+      csv << s.action << buf;
+    }
+    csv.close();
+    if (!csv)
+    {
+      std::remove(tmp.c_str());
+      throw std::runtime_error(tmp + ": cannot write the segments");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot rename the segments into place");
+  }
 }
 
 void writePreview(const SampleRenderer& sample, int i, const std::string& prefix)

@@ -23,6 +23,8 @@ struct BagOptions
   std::string info_topic = "/camera/rgb/camera_info";
   std::string mask_topic = "/camera/person_mask";
   std::string tf_topic = "/tf";
+  /** stream bags only: the ground-truth action of each frame (std_msgs/String, "" = none). */
+  std::string action_topic = "/ground_truth/action";
   /** Also write the organized PointCloud2 (about 10 MB a frame before compression). */
   bool points = false;
   /** sensor_msgs/Image on the topics themselves instead of CompressedImage on <topic>/compressed. */
@@ -32,18 +34,32 @@ struct BagOptions
   std::string compression = "lz4";   ///< bag chunk compression: none, lz4, bz2
 };
 
-/** @brief The topics and message types a bag written with @p options holds. */
-std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& options);
+/**
+ * @brief The topics and message types a bag of a @p dataset sample written with @p options holds
+ *        (a "stream" also has options.action_topic).
+ */
+std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& options, const std::string& dataset = "ias");
 
 /**
  * @brief Renders every frame of @p sample into the bag @p path: written as "<path>.tmp" and renamed
- *        when complete, so an existing @p path is always a complete bag.
+ *        when complete, so an existing @p path is always a complete bag. A stream's bag also gets,
+ *        per frame at its stamp, the frame's ground-truth action (SampleRenderer::actionAt) on
+ *        options.action_topic.
  * @param cancel checked between frames; when set, the temporary file is removed and false returned
  * @param on_frame called after each frame (progress)
  * @throws std::runtime_error (message naming the file) on write errors or bad options
  */
 bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const BagOptions& options,
                     const std::atomic<bool>* cancel = nullptr, const std::function<void()>& on_frame = {});
+
+/**
+ * @brief Writes the ground-truth segments of @p sample as CSV, header
+ *        "action,first_frame,last_frame,start,end" (frames inclusive; start and end the stamps of
+ *        the first and last frame in seconds), one row per SampleRenderer::segments() entry; written
+ *        as "<path>.tmp" and renamed when complete.
+ * @throws std::runtime_error (naming the file) if it cannot be written
+ */
+void writeSegmentsCsv(const SampleRenderer& sample, const std::string& path);
 
 /** @brief Writes <prefix>_color.png and <prefix>_depth.png (depth 0.5-4.5 m as grey, black = none) of frame @p i. */
 void writePreview(const SampleRenderer& sample, int i, const std::string& prefix);

@@ -1,5 +1,6 @@
 // The bags synth writes: readable with the rosbag API, with the promised topics, types, frame ids
-// and message counts; byte-identical for the same seed; no partial file when cancelled.
+// and message counts; byte-identical for the same seed; no partial file when cancelled; a stream's
+// ground-truth action per frame and its segments CSV.
 #include "../../src/tools/synth_bag.h"
 
 #include <rosbag/bag.h>
@@ -8,12 +9,14 @@
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/String.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -176,4 +179,80 @@ TEST(SynthBag, BadOptionsAreRejected)
   options.compression = "zip";
   EXPECT_THROW(writeSampleBag(sample, (dir.path / "y.bag").string(), options), std::runtime_error);
   EXPECT_THROW(writeSampleBag(sample, (dir.path / "no_such_dir" / "y.bag").string(), BagOptions()), std::runtime_error);
+}
+
+TEST(SynthBag, StreamHasTheGroundTruthActionAndTheSegmentsCsv)
+{
+  TempDir dir;
+  // p10's first stream, cut 8 frames into its first action (66 frames of idle before it): quick,
+  // with idle and action frames.
+  SampleSpec s;
+  s.dataset = "stream";
+  s.person = "p10";
+  s.action = "stream";
+  s.repetition = 1;
+  s.max_frames = SampleRenderer(s).segments().front().first + 8;
+  ASSERT_LT(s.max_frames, 120);
+  const SampleRenderer sample(s);
+  ASSERT_EQ(sample.segments().size(), 1u);
+  const BagOptions options;
+  const fs::path path = dir.path / "p10_stream_1.bag";
+  ASSERT_TRUE(writeSampleBag(sample, path.string(), options));
+
+  rosbag::Bag bag(path.string(), rosbag::bagmode::Read);
+  rosbag::View view(bag);
+  std::map<std::string, std::string> types;
+  for (const auto* c : view.getConnections())
+    types[c->topic] = c->datatype;
+  const auto promised = bagTopics(options, "stream");
+  ASSERT_EQ(types.size(), promised.size());
+  for (const auto& [topic, type] : promised)
+    EXPECT_EQ(types[topic], type) << topic;
+  EXPECT_EQ(types["/ground_truth/action"], "std_msgs/String");
+  std::map<std::string, int> counts;
+  int i = 0, idle = 0;
+  for (const rosbag::MessageInstance& m : view)
+  {
+    ++counts[m.getTopic()];
+    if (m.getTopic() != options.action_topic)
+      continue;
+    const auto action = m.instantiate<std_msgs::String>();
+    ASSERT_TRUE(action);
+    ASSERT_LT(i, sample.frames());
+    EXPECT_NEAR(m.getTime().toSec(), sample.stamp(i), 1e-6) << i;
+    EXPECT_EQ(action->data, sample.actionAt(i)) << i;
+    idle += action->data.empty() ? 1 : 0;
+    ++i;
+  }
+  for (const auto& [topic, type] : promised)
+    EXPECT_EQ(counts[topic], sample.frames()) << topic;
+  EXPECT_EQ(idle, sample.frames() - 8);
+
+  const fs::path csv = dir.path / "p10_stream_1_segments.csv";
+  writeSegmentsCsv(sample, csv.string());
+  EXPECT_FALSE(fs::exists(csv.string() + ".tmp"));
+  std::ifstream in(csv);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line, "action,first_frame,last_frame,start,end");
+  size_t rows = 0;
+  while (std::getline(in, line))
+  {
+    ASSERT_LT(rows, sample.segments().size());
+    const StreamSegment& seg = sample.segments()[rows++];
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream fields(line);
+    std::string action;
+    int first = -1, last = -1;
+    double start = 0, end = 0;
+    ASSERT_TRUE(fields >> action >> first >> last >> start >> end) << line;
+    EXPECT_EQ(action, seg.action);
+    EXPECT_EQ(first, seg.first);
+    EXPECT_EQ(last, seg.last);
+    EXPECT_EQ(last, sample.frames() - 1);  // clipped by max_frames
+    EXPECT_NEAR(start, sample.stamp(seg.first), 1e-6);
+    EXPECT_NEAR(end, sample.stamp(seg.last), 1e-6);
+  }
+  EXPECT_EQ(rows, sample.segments().size());
+  EXPECT_THROW(writeSegmentsCsv(sample, (dir.path / "no_such_dir" / "x.csv").string()), std::runtime_error);
 }

@@ -1,8 +1,9 @@
 /**
  * @file synth.h
- * @brief Synthetic actors performing the IAS-Lab Action Dataset's 15 actions, and the MSR Action3D
- *        skeletons, rendered by the virtual Kinect (scene.h) one sample at a time, in process.
- *        ROS-free. This is the API the training, evaluation, benchmark and tracker tests use.
+ * @brief Synthetic actors performing the IAS-Lab Action Dataset's 15 actions, continuous streams of
+ *        those actions, and the MSR Action3D skeletons, rendered by the virtual Kinect (scene.h) one
+ *        sample at a time, in process. ROS-free. This is the API the training, evaluation,
+ *        benchmark and tracker tests use.
  *
  * Typical use:
  * @code
@@ -35,19 +36,30 @@ namespace synth
 /** @brief The 15 IAS-Lab actions in snake_case, alphabetical: check_watch ... wave. */
 const std::vector<std::string>& iasLabActions();
 
-/** @brief One sample to render. */
+/**
+ * @brief One sample to render.
+ *
+ * dataset "stream": one actor of the "ias" set (person "pNN") performing stream_actions actions in
+ * a row (about a minute for 8), with transitions and idle periods between them; repetition is the
+ * stream's number and action is "stream".
+ */
 struct SampleSpec
 {
-  std::string dataset = "ias";  ///< "ias" (synthetic actors) or "msr" (MSR Action3D skeletons)
-  std::string person;           ///< "p01".."pNN" (ias) or "s01".."s10" (msr)
-  std::string action;           ///< an iasLabActions() name, or an msrActions() name
-  int repetition = 1;           ///< 1-based; the take for msr
+  std::string dataset = "ias";  ///< "ias" (synthetic actors), "stream" (their streams) or "msr" (MSR Action3D skeletons)
+  std::string person;           ///< "p01".."pNN" (ias, stream) or "s01".."s10" (msr)
+  std::string action;           ///< an iasLabActions() name, an msrActions() name, or "stream"
+  int repetition = 1;           ///< 1-based; the take for msr, the stream's number for stream
   std::uint64_t seed = 1;       ///< dataset seed: same seed, same actors and same frames
   std::string skeleton_file;    ///< msr only: the skeleton file
   /** Render only the first max_frames frames (0 = all); for tests and previews. */
   int max_frames = 0;
+  /** stream only: the number of actions performed (1..99; sit_down + get_up count as two). */
+  int stream_actions = 8;
 
-  /** @brief "p01_wave_1" / "a01_s01_e01": unique within a dataset, used as the bag's base name. */
+  /**
+   * @brief "p01_wave_1" / "a01_s01_e01" / "p01_stream_1": unique within a dataset, used as the
+   *        bag's base name.
+   */
   std::string name() const;
 };
 
@@ -64,6 +76,34 @@ std::vector<SampleSpec> iasLabSamples(int people = 12, int repetitions = 3, std:
  * @throws std::runtime_error if the folder cannot be read or holds no skeleton file
  */
 std::vector<SampleSpec> msrSamples(const std::string& folder, std::uint64_t seed = 1, bool cvpr12_only = true);
+
+/**
+ * @brief The streams: persons p<first_person>..p<first_person + people - 1>, each performing
+ *        @p streams streams of @p actions actions, ordered person then stream.
+ * @throws std::invalid_argument if a person number would leave 1..99, or people, streams or
+ *         actions is not in 1..99
+ */
+std::vector<SampleSpec> streamSamples(int first_person, int people, int streams, int actions = 8, std::uint64_t seed = 1);
+
+/**
+ * @brief The actions stream @p spec performs, in order (the actions of its segments); cheap, no motion.
+ *
+ * Drawn from the 14 IAS-Lab actions other than standing (the idle periods are standing), from one
+ * shuffle bag sequence per person and seed that the person's streams take in turn (stream 1 the
+ * first stream_actions, stream 2 the next, ...; so over a person's streams every action appears
+ * equally often). sit_down + get_up are one item of the bag and always consecutive, get_up appears
+ * nowhere else, and no action follows itself.
+ * @throws std::invalid_argument if spec is not a valid stream (dataset, person, number, actions)
+ */
+std::vector<std::string> streamActions(const SampleSpec& spec);
+
+/** @brief One performed action of a sample: frame indices, inclusive. */
+struct StreamSegment
+{
+  std::string action;
+  int first = 0;
+  int last = 0;
+};
 
 /** @brief A synthetic person of the "ias" set: looks, body and style of moving. */
 struct Actor
@@ -99,11 +139,26 @@ public:
   ~SampleRenderer();
 
   const SampleSpec& spec() const;
-  /** @brief The action label (the spec's action). */
+  /** @brief The action label (the spec's action; "stream" for a stream). */
   const std::string& label() const;
   int frames() const;
   /** @brief Stamp of frame @p i in seconds: a fixed start (2013-01-01 UTC) + i / fps. */
   double stamp(int i) const;
+
+  /**
+   * @brief Ground truth of what is performed when, ordered, inside [0, frames()).
+   *
+   * stream: one segment per performed action, its core: the frames between the performance's own
+   * idle lead-in and lead-out (idle periods and transitions belong to no segment); segments past
+   * max_frames are dropped, the one it cuts is clipped. ias and msr: one segment, the whole sample,
+   * with the sample's action.
+   */
+  const std::vector<StreamSegment>& segments() const;
+  /**
+   * @brief The action of the segment holding frame @p i, or "" if none does (idle, transition).
+   * @throws std::out_of_range if i is not in [0, frames())
+   */
+  std::string actionAt(int i) const;
 
   /**
    * @brief Renders frame @p i as an organized cloud (width x height, camera_rgb_optical_frame, stamp in
