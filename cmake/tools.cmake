@@ -18,6 +18,9 @@ target_link_libraries(action_flow_tool_support action_flow_eval action_flow_trac
 
 foreach(tool train evaluate)
   add_executable(${tool} src/tools/${tool}.cpp)
+  if(tool STREQUAL "evaluate")
+    target_sources(${tool} PRIVATE src/tools/online_protocol.cpp)
+  endif()
   target_link_libraries(${tool} action_flow_tool_support ${catkin_LIBRARIES})
   target_compile_definitions(${tool} PRIVATE ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 endforeach()

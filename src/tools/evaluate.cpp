@@ -4,6 +4,7 @@
 // accuracy against frames per sequence (its Figure 8) and an ablation table.
 #include "cli.h"
 #include "extraction.h"
+#include "online_protocol.h"
 #include "sample_sources.h"
 
 #include <action_flow/synth/skeleton.h>
@@ -26,7 +27,9 @@ namespace
 {
 const char* kUsage =
     "usage: evaluate --output DIR (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
-    "  --protocol lopo|cross-subject   leave-one-person-out (default) or train on --train-persons\n"
+    "  --protocol lopo|cross-subject|online\n"
+    "                                  leave-one-person-out (default), train on --train-persons, or labels on\n"
+    "                                  continuous streams of new people (see below)\n"
     "  --train-persons a,b,...         cross-subject training people (default s01,s03,s05,s07,s09)\n"
     "  --actions a,b,...               evaluate on these actions only (e.g. an MSR subset)\n"
     "  --variants v1,v2,...            of posture_flow, posture_flow_no_posture, posture_flow_sums,\n"
@@ -257,6 +260,7 @@ int main(int argc, char** argv)
     std::set<std::string> valued = { "output", "index", "jobs", "cache", "protocol", "train-persons", "variants",
                                      "sweep" };
     valued.insert(methodOptions().begin(), methodOptions().end());
+    valued.insert(onlineOptions().begin(), onlineOptions().end());
     addSampleOptions(valued);
     std::set<std::string> flags = methodFlags();
     flags.insert({ "help", "no-plots", "allow-empty" });
@@ -264,6 +268,7 @@ int main(int argc, char** argv)
     if (args.has("help") || !args.has("output"))
     {
       std::fputs(kUsage, args.has("help") ? stdout : stderr);
+      std::fputs(onlineUsage(), args.has("help") ? stdout : stderr);
       std::fputs(methodUsage(), args.has("help") ? stdout : stderr);
       return args.has("help") ? 0 : 2;
     }
@@ -277,6 +282,8 @@ int main(int argc, char** argv)
     if (samples.empty())
       throw std::invalid_argument("no samples to evaluate");
 
+    if (args.get("protocol") == "online")
+      return runOnlineProtocol(args, samples, args.get("output"));
     const VariantTable table = variantTable(base);
     const std::vector<RecognitionParams>& extractions = table.extractions;
     const RecognitionParams& sum = extractions[0];
@@ -294,7 +301,7 @@ int main(int argc, char** argv)
     else if (protocol == "cross-subject")
       folds = { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
     else
-      throw UsageError("unknown protocol '" + protocol + "' (lopo or cross-subject)");
+      throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject or online)");
     std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", samples.size(),
                  uniqueSorted(persons).size(), folds.size(), protocol.c_str());
 

@@ -358,19 +358,26 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
   for (auto spec : specs)
   {
     spec.max_frames = max_frames;
-    SampleRef s;
-    s.key = spec.name();
-    s.person = spec.person;
-    s.action = spec.action;
-    s.repetition = spec.repetition;
-    s.skeleton_file = spec.skeleton_file;
-    s.where = "rendered sample " + s.key;
-    s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" +
-                    std::to_string(spec.seed) + ":" + std::to_string(max_frames);
-    s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };
-    out.push_back(std::move(s));
+    out.push_back(renderedSample(spec));
   }
   return out;
+}
+
+SampleRef renderedSample(const synth::SampleSpec& spec)
+{
+  SampleRef s;
+  s.key = spec.name();
+  s.person = spec.person;
+  s.action = spec.action;
+  s.repetition = spec.repetition;
+  s.skeleton_file = spec.skeleton_file;
+  s.where = "rendered sample " + s.key;
+  s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" + std::to_string(spec.seed) + ":" +
+                  std::to_string(spec.max_frames);
+  if (spec.dataset == "stream")
+    s.fingerprint += ":" + std::to_string(spec.stream_actions);
+  s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };
+  return s;
 }
 
 }  // namespace tools

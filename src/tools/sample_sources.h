@@ -3,6 +3,7 @@
 #pragma once
 
 #include <action_flow/feature_extractor.h>
+#include <action_flow/synth/synth.h>
 
 #include <functional>
 #include <memory>
@@ -51,6 +52,8 @@ class Args;
 void addSampleOptions(std::set<std::string>& valued);
 /** The virtual Kinect's samples (--synth ias|msr, --people, --repetitions, --seed, --msr-dir, --max-frames). */
 std::vector<SampleRef> samplesFromSynth(const Args& args);
+/** A sample rendered by the virtual Kinect in-process (any dataset, streams included). */
+SampleRef renderedSample(const synth::SampleSpec& spec);
 /** The samples the options name. @throws on a bad index or option, naming it. */
 std::vector<SampleRef> selectSamples(const Args& args);
 /** The cache folder the options name (default ~/.ros/action_flow/cache). */

@@ -1,0 +1,347 @@
+#include "online_protocol.h"
+
+#include "cli.h"
+#include "extraction.h"
+
+#include <action_flow/synth/synth.h>
+
+#include <ros/package.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sys/stat.h>
+
+namespace action_flow
+{
+namespace tools
+{
+namespace
+{
+using json = nlohmann::json;
+
+void writeAtomically(const std::string& path, const std::string& text)
+{
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    f << text;
+    if (!f.flush())
+      throw std::runtime_error(path + ": cannot write");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error(path + ": cannot rename the temporary file into place");
+}
+
+json scoreJson(const StreamScore& s)
+{
+  const auto finite = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  return { { "truths", s.truths },
+           { "predictions", s.predictions },
+           { "matched", s.matched },
+           { "precision", s.precision },
+           { "recall", s.recall },
+           { "f1", s.f1 },
+           { "frame_accuracy", s.frame_accuracy },
+           { "false_labels", s.false_labels },
+           { "false_per_minute", s.false_per_minute() },
+           { "idle_false", s.idle_false },
+           { "idle_false_per_minute", s.idle_false_per_minute() },
+           { "idle_seconds", s.idle_seconds },
+           { "stream_seconds", s.stream_seconds },
+           { "median_start_latency_s", finite(median(s.start_latency)) },
+           { "median_end_latency_s", finite(median(s.end_latency)) } };
+}
+
+StreamScore scoreCase(const StreamCase& c, const std::vector<PredictedSegment>& predicted)
+{
+  return scoreStream(c.truth, predicted, c.frame_stamps, c.start, c.end);
+}
+
+// The streams' cases: truth from the renderer (cheap: no frame is rendered), frames from extraction.
+std::vector<StreamCase> streamCases(const std::vector<synth::SampleSpec>& specs, const std::vector<SampleFrames>& frames)
+{
+  std::vector<StreamCase> out;
+  for (std::size_t i = 0; i < specs.size(); ++i)
+  {
+    const synth::SampleRenderer r(specs[i]);
+    StreamCase c;
+    c.name = specs[i].name();
+    for (const auto& s : r.segments())
+      c.truth.push_back({ s.action, r.stamp(s.first), r.stamp(s.last) });
+    for (int f = 0; f < r.frames(); ++f)
+      c.frame_stamps.push_back(r.stamp(f));
+    c.start = c.frame_stamps.front();
+    c.end = c.frame_stamps.back();
+    c.frames = &frames[i];
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+int personNumber(const std::string& person)
+{
+  if (person.size() < 2 || person[0] != 'p')
+    throw UsageError("the online protocol trains on synthetic actors (--synth ias), not on '" + person + "'");
+  return std::atoi(person.c_str() + 1);
+}
+
+std::string scriptPath(const std::string& name)
+{
+  const std::string pkg = std::getenv("ROS_PACKAGE_PATH") ? ros::package::getPath("action_flow") : "";
+  return (pkg.empty() ? std::string(ACTION_FLOW_SOURCE_DIR) : pkg) + "/scripts/" + name;
+}
+}  // namespace
+
+std::vector<PredictedSegment> runPolicy(const std::shared_ptr<const ActionModel>& model, const PolicyParams& params,
+                                        const SampleFrames& frames)
+{
+  PolicyParams p = params;
+  p.mode = PolicyParams::Mode::Online;
+  RecognitionPolicy policy(model, p);
+  std::vector<PredictedSegment> out;
+  const auto take = [&](const std::vector<LabelEvent>& events, double now) {
+    for (const LabelEvent& e : events)
+      if (e.closes_published && !out.empty())
+        out.back().end = e.end;  // one track: the label it closes is the last one
+      else
+        out.push_back({ e.result.label, e.start, e.end, now });
+  };
+  for (Eigen::Index r = 0; r < frames.descriptors.rows(); ++r)
+  {
+    const double stamp = frames.stamps[static_cast<std::size_t>(r)];
+    take(policy.add(1, frames.descriptors.row(r).transpose(), stamp), stamp);
+  }
+  if (!frames.stamps.empty())
+    take(policy.end(1), frames.stamps.back());
+  return out;
+}
+
+std::vector<PolicyParams> policyCandidates(Recognizer recognizer)
+{
+  std::vector<PolicyParams> out;
+  PolicyParams base;
+  base.mode = PolicyParams::Mode::Online;
+  if (recognizer == Recognizer::PostureFlow)
+  {
+    for (double on : { 0.35, 0.5, 0.75 })
+      for (double rest : { 0.5, 1.0 })
+        for (double confidence : { 0.0, 0.2, 0.3 })
+          for (int stable : { 0, 2, 3 })  // 0: no early label, only when the segment ends
+          {
+            PolicyParams p = base;
+            p.motion_on = on;
+            p.motion_off = 0.6 * on;
+            p.rest_time = rest;
+            p.min_confidence = confidence;
+            p.publish_early = stable > 0;
+            p.stable_count = std::max(stable, 1);
+            out.push_back(p);
+          }
+  }
+  else  // sliding window: the paper's descriptors carry no motion energy
+  {
+    for (double window : { 2.0, 3.0 })
+      for (double confidence : { 0.0, 0.05, 0.1, 0.2 })
+        for (int stable : { 2, 3, 5 })
+        {
+          PolicyParams p = base;
+          p.window = window;
+          p.min_confidence = confidence;
+          p.stable_count = stable;
+          out.push_back(p);
+        }
+  }
+  return out;
+}
+
+PolicyParams choosePolicy(const std::shared_ptr<const ActionModel>& model, const std::vector<StreamCase>& streams,
+                          const std::vector<PolicyParams>& candidates, StreamScore* score)
+{
+  if (candidates.empty() || streams.empty())
+    throw std::invalid_argument("choosePolicy: no candidates or no streams");
+  std::size_t best = 0;
+  StreamScore best_score;
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+  {
+    std::vector<StreamScore> scores;
+    for (const StreamCase& c : streams)
+      scores.push_back(scoreCase(c, runPolicy(model, candidates[k], *c.frames)));
+    const StreamScore s = combineScores(scores);
+    if (k == 0 || s.f1 > best_score.f1 + 1e-12 ||
+        (std::fabs(s.f1 - best_score.f1) <= 1e-12 && s.false_per_minute() < best_score.false_per_minute() - 1e-12))
+    {
+      best = k;
+      best_score = s;
+    }
+  }
+  if (score)
+    *score = best_score;
+  return candidates[best];
+}
+
+json policyJson(const PolicyParams& p)
+{
+  return { { "motion_on", p.motion_on },         { "motion_off", p.motion_off },   { "rest_time", p.rest_time },
+           { "min_confidence", p.min_confidence },
+           { "publish_early", p.publish_early }, { "stable_count", p.stable_count }, { "classify_every", p.classify_every },
+           { "window", p.window },               { "idle_labels", p.idle_labels } };
+}
+
+const std::vector<std::string>& onlineOptions()
+{
+  static const std::vector<std::string> o = { "stream-people", "streams", "stream-actions", "tuning-people" };
+  return o;
+}
+
+const char* onlineUsage()
+{
+  return "online protocol (--protocol online, with --synth ias for the training samples):\n"
+         "  --stream-people N               new actors after the training people, one set of streams each (default 6)\n"
+         "  --streams N                     streams per new actor (default 1)\n"
+         "  --stream-actions N              actions per stream (default 8)\n"
+         "  --tuning-people N               training people whose streams choose the policy's thresholds, with a\n"
+         "                                  model trained on the other training people (default: a third)\n"
+         "  --variants                      posture_flow and/or sumflow (default both)\n";
+}
+
+int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& training, const std::string& dir)
+{
+  if (args.get("synth") != "ias")
+    throw UsageError("--protocol online trains on the synthetic actors: give --synth ias");
+  const int stream_people = static_cast<int>(args.integer("stream-people", 6, 1, 50));
+  const int streams = static_cast<int>(args.integer("streams", 1, 1, 20));
+  const int actions = static_cast<int>(args.integer("stream-actions", 8, 2, 40));
+  const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1000000000));
+  const int max_frames = static_cast<int>(args.integer("max-frames", 0, 0, 100000));
+  std::vector<std::string> persons;
+  int last = 0;
+  for (const auto& s : training)
+  {
+    persons.push_back(s.person);
+    last = std::max(last, personNumber(s.person));
+  }
+  const std::vector<std::string> people = uniqueSorted(persons);
+  if (people.size() < 2)
+    throw UsageError("--protocol online needs at least 2 training people (some choose the thresholds)");
+  const int tuning_people = static_cast<int>(
+      args.integer("tuning-people", std::max<long>(1, static_cast<long>(people.size() + 2) / 3), 1,
+                   static_cast<long>(people.size()) - 1));
+  if (last + stream_people > 99)
+    throw UsageError("--stream-people: new actors would go past p99");
+  const std::set<std::string> tuners(people.end() - tuning_people, people.end());
+
+  // Streams: of the tuning people (their first stream), then of the new people.
+  std::vector<synth::SampleSpec> specs;
+  for (const auto& p : tuners)
+    for (auto s : synth::streamSamples(personNumber(p), 1, 1, actions, seed))
+      specs.push_back(s);
+  const std::size_t tuning_streams = specs.size();
+  for (auto s : synth::streamSamples(last + 1, stream_people, streams, actions, seed))
+    specs.push_back(s);
+  std::vector<SampleRef> stream_refs;
+  for (auto& s : specs)
+  {
+    s.max_frames = max_frames;
+    stream_refs.push_back(renderedSample(s));
+  }
+
+  RecognitionParams sum = methodParams(args), pf = sum;
+  sum.recognizer = Recognizer::Paper;
+  sum.grid.aggregation = FlowAggregation::Sum;
+  sum.use_pca = false;
+  pf.recognizer = Recognizer::PostureFlow;
+  const std::vector<RecognitionParams> extractions = { sum, pf };
+  const std::vector<std::string> variants = splitList(args.get("variants", "posture_flow,sumflow"));
+  for (const auto& v : variants)
+    if (v != "posture_flow" && v != "sumflow")
+      throw UsageError("--protocol online runs the variants posture_flow and sumflow, not '" + v + "'");
+
+  std::fprintf(stderr,
+               "evaluate: online protocol: %zu training samples of %zu people; thresholds chosen on %zu streams "
+               "of %d of them; tested on %zu streams of %d new people\n",
+               training.size(), people.size(), tuning_streams, tuning_people, specs.size() - tuning_streams,
+               stream_people);
+  const TrackerParams tracker;
+  const int jobs = jobsOption(args);
+  installInterruptHandler();
+  const auto train_frames = extractAll(training, extractions, tracker, cacheDir(args), jobs);
+  refuseEmptySamples(training, train_frames[0], args.has("allow-empty"));
+  const auto stream_frames = extractAll(stream_refs, extractions, tracker, cacheDir(args), jobs);
+
+  std::vector<std::size_t> all_rows, inner_rows;
+  for (std::size_t i = 0; i < training.size(); ++i)
+  {
+    all_rows.push_back(i);
+    if (!tuners.count(training[i].person))
+      inner_rows.push_back(i);
+  }
+  json report = { { "protocol", "online" },
+                  { "training", { { "samples", training.size() }, { "people", people } } },
+                  { "tuning_people", std::vector<std::string>(tuners.begin(), tuners.end()) },
+                  { "iou_threshold", 0.5 } };
+  json results = json::array();
+  std::string timeline = "stream,kind,label,start,end,published\n";
+  for (const std::string& v : variants)
+  {
+    const std::size_t e = v == "sumflow" ? 0 : 1;
+    std::vector<LabelledSample> labelled;
+    for (std::size_t i = 0; i < training.size(); ++i)
+      labelled.push_back({ training[i].person, training[i].action, &train_frames[e][i] });
+    const auto cases = streamCases(specs, stream_frames[e]);
+    const std::vector<StreamCase> tuning(cases.begin(), cases.begin() + static_cast<long>(tuning_streams));
+    const std::vector<StreamCase> test(cases.begin() + static_cast<long>(tuning_streams), cases.end());
+
+    auto tuning_model = std::make_shared<const ActionModel>(trainModel(labelled, inner_rows, extractions[e]));
+    StreamScore tuning_score;
+    const PolicyParams chosen =
+        choosePolicy(tuning_model, tuning, policyCandidates(extractions[e].recognizer), &tuning_score);
+    auto model = std::make_shared<const ActionModel>(trainModel(labelled, all_rows, extractions[e]));
+
+    std::vector<StreamScore> scores;
+    json per_stream = json::array();
+    for (const StreamCase& c : test)
+    {
+      const auto predicted = runPolicy(model, chosen, *c.frames);
+      scores.push_back(scoreCase(c, predicted));
+      per_stream.push_back({ { "stream", c.name }, { "frames_with_descriptor", c.frames->stamps.size() },
+                             { "frames", c.frame_stamps.size() }, { "score", scoreJson(scores.back()) } });
+      const std::string name = v + "_" + c.name;
+      for (const auto& t : c.truth)
+        timeline += name + ",truth," + t.label + "," + std::to_string(t.start) + "," + std::to_string(t.end) + ",\n";
+      for (const auto& p : predicted)
+        timeline += name + ",predicted," + p.label + "," + std::to_string(p.start) + "," + std::to_string(p.end) + "," +
+                    std::to_string(p.published) + "\n";
+    }
+    const StreamScore all = combineScores(scores);
+    results.push_back({ { "variant", v },
+                        { "policy", policyJson(chosen) },
+                        { "tuning_score", scoreJson(tuning_score) },
+                        { "test", scoreJson(all) },
+                        { "streams", per_stream } });
+    std::printf("%-14s segment F1@0.5 %.2f (P %.2f R %.2f), frame accuracy %.1f%%, %.1f false labels/min in idle "
+                "(%.1f/min overall), median latency %.2f s from the start, %.2f s from the end\n",
+                v.c_str(), all.f1, all.precision, all.recall, 100 * all.frame_accuracy, all.idle_false_per_minute(),
+                all.false_per_minute(), median(all.start_latency), median(all.end_latency));
+  }
+  report["variants"] = results;
+  ::mkdir(dir.c_str(), 0755);
+  writeAtomically(dir + "/online.json", report.dump(2) + "\n");
+  writeAtomically(dir + "/timeline.csv", timeline);
+  std::printf("evaluate: report in %s/online.json\n", dir.c_str());
+  if (!args.has("no-plots"))
+  {
+    const std::string cmd = "/usr/bin/python3 '" + scriptPath("plot_timeline.py") + "' '" + dir + "/timeline.csv' '" +
+                            dir + "'";
+    if (std::system(cmd.c_str()) != 0)
+      throw std::runtime_error("plotting failed: " + cmd);
+  }
+  return 0;
+}
+
+}  // namespace tools
+}  // namespace action_flow

@@ -1,0 +1,60 @@
+// evaluate --protocol online: the classifier's policy on continuous streams of people who are not
+// in training, with its thresholds chosen on streams of training people only.
+#pragma once
+
+#include "sample_sources.h"
+
+#include <action_flow/evaluation.h>
+#include <action_flow/recognition_policy.h>
+#include <action_flow/stream_scoring.h>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace action_flow
+{
+namespace tools
+{
+/** One stream with its truth and its frame descriptors. */
+struct StreamCase
+{
+  std::string name;
+  std::vector<TruthSegment> truth;
+  std::vector<double> frame_stamps;  // every rendered frame
+  double start = 0.0, end = 0.0;
+  const SampleFrames* frames = nullptr;
+};
+
+/** The labels the policy publishes over one stream's frame descriptors (one track), as segments. */
+std::vector<PredictedSegment> runPolicy(const std::shared_ptr<const ActionModel>& model, const PolicyParams& params,
+                                        const SampleFrames& frames);
+
+/** The policy settings the online protocol chooses from, for a model of @p recognizer. */
+std::vector<PolicyParams> policyCandidates(Recognizer recognizer);
+
+/**
+ * The candidate with the best segment F1 over @p streams (ties: fewer false labels a minute, then
+ * the earlier candidate); fills @p score with its combined score.
+ */
+PolicyParams choosePolicy(const std::shared_ptr<const ActionModel>& model, const std::vector<StreamCase>& streams,
+                          const std::vector<PolicyParams>& candidates, StreamScore* score);
+
+/** The settings that matter in a report. */
+nlohmann::json policyJson(const PolicyParams& p);
+
+/**
+ * Runs the online protocol and writes OUTPUT/online.json, OUTPUT/timeline.csv and (unless
+ * --no-plots) OUTPUT/timeline_<variant>_<stream>.png. @p training are the segmented samples
+ * (--synth ias); the streams are rendered for new people after the training people.
+ */
+int runOnlineProtocol(const class Args& args, const std::vector<SampleRef>& training, const std::string& dir);
+
+/** Usage text of the online protocol's options. */
+const char* onlineUsage();
+/** Its valued options. */
+const std::vector<std::string>& onlineOptions();
+
+}  // namespace tools
+}  // namespace action_flow
