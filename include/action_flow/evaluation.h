@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,9 +66,11 @@ struct SampleFrames
 {
   Eigen::MatrixXf descriptors;
   std::vector<double> stamps;
+  /** The track of each row, when the rows are every track's (a stream); empty: one performer. */
+  std::vector<std::uint32_t> tracks;
 };
 
-/** @brief Writes @p frames to @p path atomically (temporary name, then rename). */
+/** @brief Writes @p frames to @p path atomically (temporary name, then rename); the tracks, if any, after the rows. */
 void saveSampleFrames(const std::string& path, const SampleFrames& frames);
 /** @brief Reads a cache file; returns false if it is absent, @throws DatasetError if it is damaged. */
 bool loadSampleFrames(const std::string& path, SampleFrames& frames);

@@ -26,12 +26,14 @@ public:
 /**
  * @brief Runs the tracker once over @p source and, for each variant, the person pipeline of every
  *        track; returns, per variant, the frame descriptors of the sample's performer: the track
- *        seen in the most frames (a dataset sample shows one person).
+ *        seen in the most frames (a dataset sample shows one person). With @p all_tracks, every
+ *        track's descriptors instead, in time order, with SampleFrames::tracks (a stream: the
+ *        tracker may lose the performer and find them again under a new id, as it would live).
  * @param variants parameter sets to extract at once (e.g. SUMFLOW and MEANFLOW); each variant's
  *        voxel_size must equal the tracker's person_voxel_size
  * @throws std::invalid_argument on mismatched voxel sizes
  */
 std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams& tracker,
-                                        const std::vector<RecognitionParams>& variants);
+                                        const std::vector<RecognitionParams>& variants, bool all_tracks = false);
 
 }  // namespace action_flow

@@ -167,6 +167,8 @@ constexpr char kCacheMagic[8] = { 'A', 'F', 'F', 'R', 'A', 'M', 'E', '1' };
 
 void saveSampleFrames(const std::string& path, const SampleFrames& frames)
 {
+  if (!frames.tracks.empty() && frames.tracks.size() != frames.stamps.size())
+    throw DatasetError(path + ": one track id per row expected");
   const std::string tmp = path + ".tmp";
   {
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
@@ -178,6 +180,10 @@ void saveSampleFrames(const std::string& path, const SampleFrames& frames)
     f.write(reinterpret_cast<const char*>(&cols), sizeof(cols));
     f.write(reinterpret_cast<const char*>(frames.stamps.data()), sizeof(double) * rows);
     f.write(reinterpret_cast<const char*>(frames.descriptors.data()), sizeof(float) * rows * cols);
+    if (!frames.tracks.empty())
+    {
+      f.write(reinterpret_cast<const char*>(frames.tracks.data()), sizeof(std::uint32_t) * rows);
+    }
     if (!f.flush())
       throw DatasetError(path + ": write failed");
   }
@@ -201,6 +207,12 @@ bool loadSampleFrames(const std::string& path, SampleFrames& frames)
   frames.descriptors.resize(rows, cols);
   f.read(reinterpret_cast<char*>(frames.stamps.data()), sizeof(double) * rows);
   f.read(reinterpret_cast<char*>(frames.descriptors.data()), sizeof(float) * rows * cols);
+  frames.tracks.clear();
+  if (f && rows > 0 && f.peek() != EOF)  // a stream's track ids follow
+  {
+    frames.tracks.resize(rows);
+    f.read(reinterpret_cast<char*>(frames.tracks.data()), sizeof(std::uint32_t) * rows);
+  }
   if (!f || f.peek() != EOF)
     throw DatasetError(path + ": damaged cache file (delete it to recompute)");
   return true;

@@ -10,7 +10,7 @@
 namespace action_flow
 {
 std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams& tracker_params,
-                                        const std::vector<RecognitionParams>& variants)
+                                        const std::vector<RecognitionParams>& variants, bool all_tracks)
 {
   for (const auto& v : variants)
     if (std::fabs(v.voxel_size - tracker_params.person_voxel_size) > 1e-6f)
@@ -26,6 +26,10 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
     int seen = 0;
   };
   std::map<std::uint32_t, Track> tracks;
+  // all_tracks: every descriptor as it comes, per variant (a reset does not take them back).
+  std::vector<std::vector<Eigen::VectorXf>> rows(variants.size());
+  std::vector<std::vector<double>> row_stamps(variants.size());
+  std::vector<std::vector<std::uint32_t>> row_tracks(variants.size());
   Cloud cloud;
   double stamp = 0.0;
   while (source.next(cloud, stamp))
@@ -40,10 +44,30 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
         t.pipeline = std::make_unique<PersonPipeline>(variants);
       ++t.seen;
       t.pipeline->add(*person.cloud, stamp, person.frame);
+      for (std::size_t v = 0; all_tracks && v < variants.size(); ++v)
+        if (!t.pipeline->stamps(v).empty() && t.pipeline->stamps(v).back() == stamp)  // a descriptor for this frame
+        {
+          rows[v].push_back(t.pipeline->descriptors(v).back());
+          row_stamps[v].push_back(stamp);
+          row_tracks[v].push_back(person.id);
+        }
     }
   }
 
   std::vector<SampleFrames> out(variants.size());
+  if (all_tracks)
+  {
+    for (std::size_t v = 0; v < variants.size(); ++v)
+    {
+      out[v].stamps = row_stamps[v];
+      out[v].tracks = row_tracks[v];
+      out[v].descriptors.resize(static_cast<Eigen::Index>(rows[v].size()), frameDescriptorLength(variants[v]));
+      for (std::size_t r = 0; r < rows[v].size(); ++r)
+        out[v].descriptors.row(static_cast<Eigen::Index>(r)) = rows[v][r].transpose();
+    }
+    return out;
+  }
+
   const Track* best = nullptr;
   for (const auto& kv : tracks)
     if (!best || kv.second.seen > best->seen)

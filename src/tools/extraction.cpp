@@ -126,7 +126,7 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
         else
         {
           auto source = samples[s].open();
-          auto frames = extractSample(*source, tracker, variants);
+          auto frames = extractSample(*source, tracker, variants, samples[s].all_tracks);
           for (std::size_t v = 0; v < variants.size(); ++v)
           {
             saveSampleFrames(cachePath(v, s), frames[v]);

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sys/stat.h>
 
@@ -104,20 +105,41 @@ std::vector<PredictedSegment> runPolicy(const std::shared_ptr<const ActionModel>
   p.mode = PolicyParams::Mode::Online;
   RecognitionPolicy policy(model, p);
   std::vector<PredictedSegment> out;
+  std::map<std::uint32_t, std::size_t> last_of_track;  // the track's last label, which Ended closes
   const auto take = [&](const std::vector<LabelEvent>& events, double now) {
     for (const LabelEvent& e : events)
-      if (e.closes_published && !out.empty())
-        out.back().end = e.end;  // one track: the label it closes is the last one
+    {
+      const auto last = last_of_track.find(e.track);
+      if (e.closes_published && last != last_of_track.end())
+        out[last->second].end = e.end;
       else
+      {
+        last_of_track[e.track] = out.size();
         out.push_back({ e.result.label, e.start, e.end, now });
+      }
+    }
   };
+  // Every track as the live pipeline would see it: a track not seen for more than a second has
+  // ended (the tracker's own patience is shorter).
+  std::map<std::uint32_t, double> last_seen;
   for (Eigen::Index r = 0; r < frames.descriptors.rows(); ++r)
   {
-    const double stamp = frames.stamps[static_cast<std::size_t>(r)];
-    take(policy.add(1, frames.descriptors.row(r).transpose(), stamp), stamp);
+    const std::size_t i = static_cast<std::size_t>(r);
+    const double stamp = frames.stamps[i];
+    const std::uint32_t track = frames.tracks.empty() ? 1u : frames.tracks[i];
+    for (auto it = last_seen.begin(); it != last_seen.end();)
+      if (it->first != track && stamp - it->second > 1.0)
+      {
+        take(policy.end(it->first), stamp);
+        it = last_seen.erase(it);
+      }
+      else
+        ++it;
+    last_seen[track] = stamp;
+    take(policy.add(track, frames.descriptors.row(r).transpose(), stamp), stamp);
   }
   if (!frames.stamps.empty())
-    take(policy.end(1), frames.stamps.back());
+    take(policy.endAll(), frames.stamps.back());
   return out;
 }
 
@@ -128,7 +150,7 @@ std::vector<PolicyParams> policyCandidates(Recognizer recognizer)
   base.mode = PolicyParams::Mode::Online;
   if (recognizer == Recognizer::PostureFlow)
   {
-    for (double on : { 0.35, 0.5, 0.75 })
+    for (double on : { 0.5, 0.8, 1.2 })
       for (double rest : { 0.5, 1.0 })
         for (double confidence : { 0.0, 0.2, 0.3 })
           for (int stable : { 0, 2, 3 })  // 0: no early label, only when the segment ends
@@ -308,7 +330,8 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& training, 
     {
       const auto predicted = runPolicy(model, chosen, *c.frames);
       scores.push_back(scoreCase(c, predicted));
-      per_stream.push_back({ { "stream", c.name }, { "frames_with_descriptor", c.frames->stamps.size() },
+      const std::set<std::uint32_t> ids(c.frames->tracks.begin(), c.frames->tracks.end());
+      per_stream.push_back({ { "stream", c.name }, { "descriptors", c.frames->stamps.size() }, { "tracks", ids.size() },
                              { "frames", c.frame_stamps.size() }, { "score", scoreJson(scores.back()) } });
       const std::string name = v + "_" + c.name;
       for (const auto& t : c.truth)

@@ -374,8 +374,11 @@ SampleRef renderedSample(const synth::SampleSpec& spec)
   s.where = "rendered sample " + s.key;
   s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" + std::to_string(spec.seed) + ":" +
                   std::to_string(spec.max_frames);
-  if (spec.dataset == "stream")
-    s.fingerprint += ":" + std::to_string(spec.stream_actions);
+  if (spec.dataset == "stream")  // the streams' composition has its own revision; every track is kept
+  {
+    s.fingerprint += ":stream-r1:" + std::to_string(spec.stream_actions) + ":all-tracks";
+    s.all_tracks = true;
+  }
   s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };
   return s;
 }

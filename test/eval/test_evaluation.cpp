@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <random>
 
@@ -193,6 +194,32 @@ TEST(SampleCache, RoundTripsAndRejectsDamage)
   EXPECT_EQ(g.stamps, f.stamps);
   EXPECT_FALSE(loadSampleFrames(dir() + "absent.frames", g));
   std::ofstream(path, std::ios::app) << "junk";
+  EXPECT_THROW(loadSampleFrames(path, g), DatasetError);
+  std::remove(path.c_str());
+}
+
+TEST(SampleCache, KeepsAStreamsTracks)
+{
+  const std::string path = dir() + "stream.frames";
+  SampleFrames f = framesFor(2, 9, 7);
+  f.tracks.assign(f.stamps.size(), 3u);
+  f.tracks.back() = 8u;
+  saveSampleFrames(path, f);
+  SampleFrames g;
+  g.tracks = { 1u };
+  ASSERT_TRUE(loadSampleFrames(path, g));
+  EXPECT_EQ(g.tracks, f.tracks);
+  EXPECT_EQ(g.descriptors, f.descriptors);
+  f.tracks.pop_back();  // one id per row, or none
+  EXPECT_THROW(saveSampleFrames(path, f), DatasetError);
+  // A file of one performer has no tracks.
+  saveSampleFrames(path, framesFor(2, 9, 7));
+  ASSERT_TRUE(loadSampleFrames(path, g));
+  EXPECT_TRUE(g.tracks.empty());
+  // A truncated track section is damage.
+  f.tracks.push_back(8u);
+  saveSampleFrames(path, f);
+  std::filesystem::resize_file(path, std::filesystem::file_size(path) - 2);
   EXPECT_THROW(loadSampleFrames(path, g), DatasetError);
   std::remove(path.c_str());
 }
