@@ -15,6 +15,18 @@ add_library(action_flow_tracker
 )
 target_link_libraries(action_flow_tracker action_flow_core ${ACTION_FLOW_PCL_PEOPLE_LIBRARIES} ${PCL_LIBRARIES})
 
+# PCL's trained HOG+SVM person classifier (hog_classifier_file "default"): Debian's libpcl-dev lacks
+# it, the shared data folder has it. Installed into the package's share/data/ when present at
+# configure time; the library looks there, then in the source tree's ../shared/data/pcl_people/.
+set(ACTION_FLOW_HOG_FILE_NAME trainedLinearSVMForPeopleDetectionWithHOG.yaml)
+set(ACTION_FLOW_HOG_SOURCE_FILE ${PROJECT_SOURCE_DIR}/../shared/data/pcl_people/${ACTION_FLOW_HOG_FILE_NAME})
+target_compile_definitions(action_flow_tracker PRIVATE
+  ACTION_FLOW_HOG_INSTALLED="${CMAKE_INSTALL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/data/${ACTION_FLOW_HOG_FILE_NAME}"
+  ACTION_FLOW_HOG_SOURCE="${ACTION_FLOW_HOG_SOURCE_FILE}")
+if(EXISTS ${ACTION_FLOW_HOG_SOURCE_FILE})
+  install(FILES ${ACTION_FLOW_HOG_SOURCE_FILE} DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/data)
+endif()
+
 # Benchmark: per-frame time on the real 640x480 clouds (reads bags, so it links catkin's rosbag).
 add_executable(tracker_benchmark test/tracker/tracker_benchmark.cpp)
 target_compile_definitions(tracker_benchmark PRIVATE ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
@@ -29,8 +41,10 @@ if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_tracker
     test/tracker/test_tracker_parts.cpp
     test/tracker/test_tracker_scenes.cpp
-    test/tracker/test_tracker_real.cpp)
+    test/tracker/test_tracker_real.cpp
+    test/tracker/test_tracker_likeness.cpp)
   target_compile_definitions(test_tracker PRIVATE
-    ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
-  target_link_libraries(test_tracker action_flow_tracker ${catkin_LIBRARIES} gtest_main)
+    ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data"
+    ACTION_FLOW_TRACKER_TEST_DIR="${PROJECT_SOURCE_DIR}/test/tracker")
+  target_link_libraries(test_tracker action_flow_tracker action_flow_synth ${catkin_LIBRARIES} gtest_main)
 endif()

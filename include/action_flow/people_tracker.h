@@ -41,8 +41,9 @@ struct TrackerParams
   /** Use this ground plane (a,b,c,d, normal up, in the input frame) instead of estimating it. */
   bool fixed_ground = false;
   Eigen::Vector4f ground = Eigen::Vector4f(0, -1, 0, 1.1f);
-  /** Optional PCL HOG+SVM person classifier file; empty = no HOG confirmation. */
-  std::string hog_classifier_file;
+  /** PCL HOG+SVM person classifier file; empty = no HOG confirmation; "default" = PCL's trained
+   *  classifier shipped with the package (defaultHogClassifierFile(); no HOG if it is not found). */
+  std::string hog_classifier_file = "default";
   /** Association gate: a detection farther than this from a track's prediction starts a new track. */
   float gate = 0.6f;
   /** A track not seen for this long is lost. */
@@ -68,7 +69,37 @@ struct TrackerParams
   float min_head_distance = 0.3f;
   /** With a HOG classifier: detections scoring below this are rejected (pcl::people's examples use -1.5). */
   float hog_min_confidence = -1.5f;
+
+  // ---- added against walls, furniture and lost non-upright bodies (issue: false detections) ----
+  /** The camera's height above the floor (m); 0 = unknown. When given, the ground is known from the
+   *  start: the plane camera_height below the camera, pitched with it by camera_pitch, in the camera's
+   *  optical frame (x right, y down, z ahead). It is kept while the floor is hidden and refined by
+   *  the measured floor where that agrees (a strongly supported floor that disagrees replaces it). */
+  float camera_height = 0.0f;
+  /** The camera's downward pitch (rad, about its x axis; positive = looking down); with camera_height. */
+  float camera_pitch = 0.0f;
+  /** Organized clouds: a cluster whose top reaches the image's top edge (within 2 rows) is no person:
+   *  its height is the image's, not a head's (walls, curtains, doors, shelves cut by the image border). */
+  bool reject_top_at_border = true;
+  /** Organized clouds: a person stands free of what is behind them; at least this share of the rows
+   *  of the head (its top 0.25 m) must show a depth step of free_depth_step (or no depth) on both sides
+   *  in the image. A wall, door or curtain cut into columns has none. 0 disables the check. */
+  float min_free_fraction = 0.8f;
+  /** The depth step (m) that separates a head from what is beside it in the image. */
+  float free_depth_step = 0.25f;
+  /** A cluster continuing a confirmed track (within gate of its prediction) may be lower and wider
+   *  than a new person: a body that bends, crouches, lunges or kicks keeps its track. HOG is not
+   *  required of it either (HOG wants upright people). */
+  float tracked_min_height = 0.7f;
+  float tracked_max_width = 1.8f;
 };
+
+/**
+ * @brief Where hog_classifier_file "default" is found: $ACTION_FLOW_HOG_CLASSIFIER if set, else the
+ *        package's installed share/action_flow/data/, else the source tree's ../shared/data/pcl_people/
+ *        (trainedLinearSVMForPeopleDetectionWithHOG.yaml); "" if none is readable.
+ */
+std::string defaultHogClassifierFile();
 
 /** @brief One tracked person in one frame. */
 struct TrackedPerson
@@ -93,7 +124,8 @@ struct TrackerResult
   bool ground_valid = false;          ///< false until a ground plane has been found
   bool ground_assumed = false;        ///< the ground is assumed below the lowest points (no floor visible)
   bool reset = false;                 ///< time went backwards: all tracks were dropped first (their ids are in lost)
-  std::size_t detections = 0;         ///< people detected in this frame (confirmed tracks or not)
+  std::size_t detections = 0;         ///< people detected in this frame (confirmed tracks or not; not counting
+                                      ///< clusters that only passed the tracked_* limits)
   bool hog_applied = false;           ///< the HOG classifier checked this frame's detections (needs an organized cloud)
 };
 
@@ -121,8 +153,17 @@ public:
   TrackerResult update(const Cloud& cloud, double stamp,
                        const Eigen::Vector3f& camera_origin = Eigen::Vector3f::Zero());
 
-  /** @brief Drops all tracks and the ground estimate. */
+  /** @brief Drops all tracks and the ground estimate (back to the given ground, if any). */
   void reset();
+
+  /**
+   * @brief Gives the ground from outside (a,b,c,d in the input frame, normal up), e.g. from tf: used
+   *        as camera_height/camera_pitch are (kept while the floor is hidden, refined by a floor that
+   *        agrees). Ignored with fixed_ground.
+   * @param camera the camera's position in the input frame (the plane is oriented toward it)
+   * @return false for a degenerate plane
+   */
+  bool setGroundPrior(const Eigen::Vector4f& plane, const Eigen::Vector3f& camera = Eigen::Vector3f::Zero());
 
   const TrackerParams& params() const { return params_; }
 

@@ -28,6 +28,12 @@ struct PersonDetection
   int voxels = 0;                                      ///< detection voxels in the person
   double hog_confidence = std::numeric_limits<double>::quiet_NaN();  ///< SVM score; NaN when not evaluated
   pcl::Indices indices;                                ///< the person's points in the input cloud (above the ground)
+  /** Passed only the tracked_* limits (or failed HOG): may continue a confirmed track, never start one. */
+  bool weak = false;
+  /** Share of the head's image rows free on both sides (see TrackerParams::min_free_fraction); NaN if not computed. */
+  float free_fraction = std::numeric_limits<float>::quiet_NaN();
+  /** Organized clouds: the image row of the detection's highest pixel (0 = the top edge); -1 if not computed. */
+  int top_row = -1;
 };
 
 /** @brief What one frame gave. */
@@ -60,14 +66,20 @@ public:
    */
   boost::shared_ptr<Cloud> personCloud(const Cloud& cloud, const PersonDetection& person) const;
 
-  /** @brief Forgets the ground estimate. */
+  /** @brief Forgets the ground estimate (back to the prior, if any). */
   void reset();
+
+  /** @brief See PeopleTracker::setGroundPrior. */
+  bool setGroundPrior(const Eigen::Vector4f& plane, const Eigen::Vector3f& camera);
 
 private:
   struct Impl;
   TrackerParams params_;
   std::unique_ptr<Impl> impl_;
 };
+
+/** @brief The ground of a camera @p height above the floor pitched down by @p pitch, in its optical frame. */
+Eigen::Vector4f groundFromCamera(float height, float pitch);
 
 /** @brief Checks tracker parameters; @throws std::invalid_argument naming the first bad one. */
 void validateTrackerParams(const TrackerParams& params);

@@ -35,6 +35,10 @@ struct GroundParams
   int min_support = 30;
   /** ... spread at least this far apart horizontally. */
   float min_support_spread = 1.0f;
+  /** A floor found by the search replaces a measured or given ground it disagrees with (by more
+   *  than max_step_angle / max_step_offset) only with this many times min_inliers: a small patch
+   *  (a table top, a step) does not overturn a good ground, a wide floor does. */
+  float strong_support = 2.0f;
 };
 
 /**
@@ -50,10 +54,25 @@ struct GroundParams
  * normal (else the up hint) through the lowest points, provided enough of them lie at that level
  * (feet, chair legs, furniture bases) over a wide enough area; assumed() tells this case.
  * While the ground is assumed, the plane search is retried every 10th update only.
+ *
+ * Which ground wins (source()): a ground that was measured, or given (setPrior(): from the
+ * camera's mounting or tf), is KEPT while the floor is hidden (it is never replaced by an assumed
+ * one), refined by the measured floor where that agrees, and replaced by a searched floor that
+ * disagrees only if that floor is strongly supported (strong_support). An assumed ground is
+ * replaced by any floor the search finds (a wrong assumption is corrected once floor is seen).
  */
 class GroundEstimator
 {
 public:
+  /** @brief Where the current plane comes from. */
+  enum class Source
+  {
+    None,      ///< no plane yet
+    Measured,  ///< a floor seen in the cloud (searched or refined)
+    Assumed,   ///< below the lowest points (no floor seen, no prior)
+    Prior      ///< given by setPrior() and not (yet) refined by a measured floor
+  };
+
   /** @throws std::invalid_argument on non-positive or inconsistent settings. */
   explicit GroundEstimator(const GroundParams& params = GroundParams());
 
@@ -70,16 +89,29 @@ public:
   /** @brief The plane (a,b,c,d): unit normal pointing up (toward the camera), a x + b y + c z + d = 0. */
   const Eigen::Vector4f& plane() const { return plane_; }
   /** @brief Whether the current plane is assumed below the lowest points (no floor was visible). */
-  bool assumed() const { return valid_ && assumed_; }
-  /** @brief Forgets the plane. */
-  void reset() { valid_ = false; assumed_ = false; }
+  bool assumed() const { return source() == Source::Assumed; }
+  /** @brief Where the plane comes from. */
+  Source source() const { return valid_ ? source_ : Source::None; }
+  /** @brief Forgets the plane (back to the prior, if one is set). */
+  void reset();
+  /**
+   * @brief Gives the ground as known from outside (the camera's mounting, tf): used at once if no
+   *        floor has been measured, kept while the floor is hidden, and after reset().
+   * @param plane (a,b,c,d); normalised and oriented toward @p camera here
+   * @return false (nothing changed) for a degenerate plane
+   */
+  bool setPrior(const Eigen::Vector4f& plane, const Eigen::Vector3f& camera = Eigen::Vector3f::Zero());
+  /** @brief Whether a prior is set. */
+  bool hasPrior() const { return has_prior_; }
   /** @brief How many full searches were run (the rest were refinements). */
   int searches() const { return searches_; }
 
   const GroundParams& params() const { return params_; }
 
 private:
-  bool search(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up);
+  bool search(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up, Eigen::Vector4f& found,
+              std::size_t& support);
+  bool close(const Eigen::Vector4f& a, const Eigen::Vector4f& b, const Eigen::Vector3f& camera) const;
   bool refine(const Cloud& cloud, const Eigen::Vector3f& camera);
   bool dense(const Cloud& cloud, const pcl::Indices& inliers, const Eigen::Vector4f& plane) const;
   bool assumeBelow(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up);
@@ -87,9 +119,11 @@ private:
   GroundParams params_;
   Eigen::Vector4f plane_ = Eigen::Vector4f::Zero();
   bool valid_ = false;
-  bool assumed_ = false;
+  Source source_ = Source::None;
+  Eigen::Vector4f prior_ = Eigen::Vector4f::Zero();
+  bool has_prior_ = false;
   int searches_ = 0;
-  int since_search_ = 0;
+  int since_search_ = 0;  // updates since the plane was last confirmed (refined or searched)
 };
 
 /** @brief Signed height of @p p above @p plane (unit normal). */

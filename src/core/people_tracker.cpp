@@ -41,6 +41,11 @@ void PeopleTracker::reset()
   impl_->has_stamp = false;
 }
 
+bool PeopleTracker::setGroundPrior(const Eigen::Vector4f& plane, const Eigen::Vector3f& camera)
+{
+  return impl_->detector.setGroundPrior(plane, camera);
+}
+
 TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eigen::Vector3f& camera_origin)
 {
   TrackerResult result;
@@ -66,7 +71,8 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
   result.ground = det.ground;
   result.ground_valid = det.ground_valid;
   result.ground_assumed = det.ground_assumed;
-  result.detections = det.people.size();
+  for (const auto& d : det.people)
+    result.detections += d.weak ? 0 : 1;
   result.hog_applied = det.hog_applied;
 
   for (Track& t : s.tracks)
@@ -79,7 +85,11 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
   Eigen::MatrixXf cost(s.tracks.size(), det.people.size());
   for (std::size_t i = 0; i < s.tracks.size(); ++i)
     for (std::size_t j = 0; j < det.people.size(); ++j)
-      cost(i, j) = horizontal(det.people[j].centroid - s.tracks[i].filter.position());
+      // A weak detection (a body bending, crouching, kicking; or failing HOG) only continues a
+      // confirmed track: it neither confirms a tentative one nor starts one.
+      cost(i, j) = det.people[j].weak && s.tracks[i].id == 0
+                       ? 2.0f * params_.gate + 1e3f
+                       : horizontal(det.people[j].centroid - s.tracks[i].filter.position());
   const std::vector<int> match = solveAssignment(cost, params_.gate);
 
   std::vector<char> used(det.people.size(), 0);
@@ -112,7 +122,7 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
     }
   }
   for (std::size_t j = 0; j < det.people.size(); ++j)
-    if (!used[j])
+    if (!used[j] && !det.people[j].weak)
     {
       Track t{ConstantVelocityFilter(det.people[j].centroid), 0, 1, stamp};
       if (params_.confirm_after <= 1)

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
@@ -41,6 +42,62 @@ std::uint64_t voxelKey(const PointT& p, float inverse_leaf)
 constexpr int kSurfaceNeighbours = 5;
 // Points higher than this above max_height are dropped before clustering (m).
 constexpr float kAboveHeads = 0.5f;
+
+// The head region of a person: its top this many metres.
+constexpr float kHeadDepth = 0.25f;
+// A top within this many rows of the image's top edge is the edge's, not a head's.
+constexpr int kBorderRows = 2;
+// Weak candidates (see PersonDetection::weak) closer than this on the floor are parts of one body (m).
+constexpr float kFragmentDistance = 0.45f;
+
+// Share of the image rows of the detection's head whose pixels just left and just right of the
+// head's extent in that row both differ in range from the head by at least the step (or have no
+// depth, or lie outside the image). A head stands free; a column cut out of a wall does not.
+float freeFraction(const Cloud& cloud, const PersonDetection& d, const Eigen::Vector4f& ground,
+                   const Eigen::Vector3f& origin, float step)
+{
+  const int w = static_cast<int>(cloud.width);
+  struct Row
+  {
+    int lo = 1 << 30, hi = -1;
+    float range = 0.0f;
+    int n = 0;
+  };
+  std::unordered_map<int, Row> rows;
+  for (const auto i : d.indices)
+  {
+    const Eigen::Vector3f p = cloud[i].getVector3fMap();
+    if (heightAbove(ground, p) < d.height - kHeadDepth)
+      continue;
+    Row& r = rows[static_cast<int>(i) / w];
+    const int u = static_cast<int>(i) % w;
+    r.lo = std::min(r.lo, u);
+    r.hi = std::max(r.hi, u);
+    r.range += (p - origin).norm();
+    ++r.n;
+  }
+  if (rows.empty())
+    return 0.0f;
+  const auto free_at = [&](int u, int v, float range) {
+    if (u < 0 || u >= w)
+      return true;  // beyond the image: cannot tell, not held against the person
+    const PointT& q = cloud[static_cast<std::size_t>(v) * w + u];
+    if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
+      return true;
+    return std::abs((q.getVector3fMap() - origin).norm() - range) >= step;
+  };
+  int free_rows = 0;
+  for (const auto& [v, r] : rows)
+  {
+    const float range = r.range / static_cast<float>(r.n);
+    // A few pixels out: the silhouette's own edge pixels (mixed depth) are skipped.
+    const int gap = 3;
+    const bool left = free_at(r.lo - gap, v, range) && free_at(r.lo - 2 * gap, v, range);
+    const bool right = free_at(r.hi + gap, v, range) && free_at(r.hi + 2 * gap, v, range);
+    free_rows += left && right;
+  }
+  return static_cast<float>(free_rows) / static_cast<float>(rows.size());
+}
 
 void require(bool ok, const char* what)
 {
@@ -79,6 +136,40 @@ void validateTrackerParams(const TrackerParams& p)
   require(std::isfinite(p.ground_min_area) && p.ground_min_area > 0, "ground_min_area must be positive");
   require(std::isfinite(p.min_head_distance) && p.min_head_distance > 0, "min_head_distance must be positive");
   require(std::isfinite(p.hog_min_confidence), "hog_min_confidence must be finite");
+  require(std::isfinite(p.camera_height) && p.camera_height >= 0 && p.camera_height <= 5.0f,
+          "camera_height must be in [0, 5] m (0 = unknown)");
+  require(std::isfinite(p.camera_pitch) && std::abs(p.camera_pitch) < 1.5f, "camera_pitch must be in (-1.5, 1.5) rad");
+  require(std::isfinite(p.min_free_fraction) && p.min_free_fraction >= 0 && p.min_free_fraction <= 1,
+          "min_free_fraction must be in [0, 1]");
+  require(std::isfinite(p.free_depth_step) && p.free_depth_step > 0, "free_depth_step must be positive");
+  require(std::isfinite(p.tracked_min_height) && p.tracked_min_height > p.ground_tolerance &&
+              p.tracked_min_height <= p.min_height,
+          "tracked_min_height must be in (ground_tolerance, min_height]");
+  require(std::isfinite(p.tracked_max_width) && p.tracked_max_width >= p.max_width,
+          "tracked_max_width must be at least max_width");
+}
+
+std::string defaultHogClassifierFile()
+{
+  std::vector<std::string> candidates;
+  if (const char* env = std::getenv("ACTION_FLOW_HOG_CLASSIFIER"))
+    candidates.emplace_back(env);
+#ifdef ACTION_FLOW_HOG_INSTALLED
+  candidates.emplace_back(ACTION_FLOW_HOG_INSTALLED);
+#endif
+#ifdef ACTION_FLOW_HOG_SOURCE
+  candidates.emplace_back(ACTION_FLOW_HOG_SOURCE);
+#endif
+  for (const auto& c : candidates)
+    if (!c.empty() && std::ifstream(c).good())
+      return c;
+  return std::string();
+}
+
+Eigen::Vector4f groundFromCamera(float height, float pitch)
+{
+  // Optical frame: x right, y down, z ahead; pitched down by `pitch`, up is (0, -cos, -sin).
+  return Eigen::Vector4f(0.0f, -std::cos(pitch), -std::sin(pitch), height);
 }
 
 bool fitProjection(const Cloud& cloud, Eigen::Matrix<float, 3, 4>& projection)
@@ -181,13 +272,17 @@ PeopleDetector::PeopleDetector(const TrackerParams& params) : params_(params)
   g.max_angle = params_.ground_max_angle;
   g.assume_below_points = params_.assume_ground_below_points;
   impl_ = std::make_unique<Impl>(g);
-  if (!params_.hog_classifier_file.empty())
+  if (params_.camera_height > 0.0f)
+    impl_->ground.setPrior(groundFromCamera(params_.camera_height, params_.camera_pitch));
+  const std::string hog_file =
+      params_.hog_classifier_file == "default" ? defaultHogClassifierFile() : params_.hog_classifier_file;
+  if (!hog_file.empty())
   {
-    if (!std::ifstream(params_.hog_classifier_file).good())
-      throw std::invalid_argument("PeopleTracker: cannot read HOG classifier file '" + params_.hog_classifier_file + "'");
+    if (!std::ifstream(hog_file).good())
+      throw std::invalid_argument("PeopleTracker: cannot read HOG classifier file '" + hog_file + "'");
     impl_->classifier = std::make_unique<pcl::people::PersonClassifier<pcl::RGB>>();
-    if (!impl_->classifier->loadSVMFromFile(params_.hog_classifier_file))
-      throw std::invalid_argument("PeopleTracker: '" + params_.hog_classifier_file + "' is not a HOG+SVM classifier file");
+    if (!impl_->classifier->loadSVMFromFile(hog_file))
+      throw std::invalid_argument("PeopleTracker: '" + hog_file + "' is not a HOG+SVM classifier file");
   }
 }
 
@@ -196,6 +291,11 @@ PeopleDetector::~PeopleDetector() = default;
 void PeopleDetector::reset()
 {
   impl_->ground.reset();
+}
+
+bool PeopleDetector::setGroundPrior(const Eigen::Vector4f& plane, const Eigen::Vector3f& camera)
+{
+  return impl_->ground.setPrior(plane, camera);
 }
 
 DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f& origin)
@@ -318,7 +418,8 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
     sub.setInputCloud(level);
     sub.setGround(level_ground);
     sub.setInitialClusters(clusters);
-    sub.setHeightLimits(params_.min_height, params_.max_height);
+    // Down to the tracked limit: a bending person may continue a track (judged below).
+    sub.setHeightLimits(params_.tracked_min_height, params_.max_height);
     sub.setDimensionLimits(params_.min_points, std::numeric_limits<int>::max());
     sub.setMinimumDistanceBetweenHeads(params_.min_head_distance);
     sub.setSensorPortraitOrientation(false);
@@ -331,12 +432,14 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   std::vector<pcl::Indices> members(people.size());
   {
     std::vector<Eigen::Vector2f> heads(people.size(), Eigen::Vector2f::Zero());
+    std::vector<char> tall(people.size(), 0);  // top above min_height: only those exchange points
     for (std::size_t k = 0; k < people.size(); ++k)
     {
       const auto& idx = people[k].getIndices().indices;
       float top_y = 1e9f;
       for (const auto i : idx)
         top_y = std::min(top_y, (*level)[i].y);
+      tall[k] = camera_height - top_y >= params_.min_height;
       int n = 0;
       for (const auto i : idx)
         if ((*level)[i].y < top_y + 0.2f)
@@ -352,7 +455,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
         const Eigen::Vector2f q((*level)[i].x, (*level)[i].z);
         std::size_t best = k;
         for (std::size_t m = 0; m < people.size(); ++m)
-          if ((heads[m] - q).squaredNorm() < (heads[best] - q).squaredNorm())
+          if (tall[m] == tall[k] && (heads[m] - q).squaredNorm() < (heads[best] - q).squaredNorm())
             best = m;
         // Only between neighbours: a far-away head never takes points.
         if (best != k && (heads[best] - q).norm() > params_.min_head_distance)
@@ -362,10 +465,12 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   }
 
   // ---- size limits, and a surface: a person's voxels have neighbours all around (scattered
-  // points have one or two within the clustering tolerance) ----
+  // points have one or two within the clustering tolerance). Clusters within the tracked_* limits
+  // only are weak: they may continue a track, never start one ----
   std::unordered_map<std::uint64_t, int> label_of_voxel;
   Eigen::Array3f people_lo = Eigen::Array3f::Constant(1e30f), people_hi = -people_lo;  // their voxels' points
   const float inverse_leaf = 1.0f / params_.detection_voxel_size;
+  std::vector<PersonDetection> candidates;
   for (const auto& idx : members)
   {
     if (static_cast<int>(idx.size()) < params_.min_points)
@@ -387,71 +492,28 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
       top = std::max(top, heightAbove(ground, (*above)[i].getVector3fMap()));
     }
     const float width = std::max(hi.x() - lo.x(), hi.z() - lo.z());
-    if (top < params_.min_height || top > params_.max_height || width < params_.min_width || width > params_.max_width)
+    if (top < params_.tracked_min_height || top > params_.max_height || width < params_.min_width ||
+        width > params_.tracked_max_width)
       continue;
     PersonDetection d;
     d.centroid = sum / static_cast<float>(idx.size());
     d.height = top;
     d.width = width;
     d.voxels = static_cast<int>(idx.size());
-    const int label = static_cast<int>(out.people.size());
+    d.weak = top < params_.min_height || width > params_.max_width;
+    const int label = static_cast<int>(candidates.size());
     for (const auto i : idx)
     {
       label_of_voxel.emplace(voxelKey((*above)[i], inverse_leaf), label);
       people_lo = people_lo.min((*above)[i].getArray3fMap());
       people_hi = people_hi.max((*above)[i].getArray3fMap());
     }
-    out.people.push_back(std::move(d));
+    candidates.push_back(std::move(d));
   }
 
-  // ---- HOG confirmation (organized clouds only: it needs the image) ----
-  Eigen::Matrix<float, 3, 4> P;
-  if (impl_->classifier && !out.people.empty() && fitProjection(cloud, P))
-  {
-    out.hog_applied = true;
-    auto image = pcl::make_shared<pcl::PointCloud<pcl::RGB>>(cloud.width, cloud.height);
-    for (std::size_t i = 0; i < cloud.size(); ++i)
-    {
-      (*image)[i].r = cloud[i].r;
-      (*image)[i].g = cloud[i].g;
-      (*image)[i].b = cloud[i].b;
-    }
-    for (auto& d : out.people)
-    {
-      const Eigen::Vector3f foot = d.centroid - heightAbove(ground, d.centroid) * up;
-      const Eigen::Vector3f head = foot + d.height * up;
-      const Eigen::Vector3f a = P * foot.homogeneous(), b = P * head.homogeneous(),
-                            c = P * (0.5f * (foot + head)).homogeneous();
-      if (!(a.z() > 0 && b.z() > 0 && c.z() > 0))
-        continue;  // behind the camera's image plane: cannot be judged, kept
-      const float pixel_height = (a.hnormalized() - b.hnormalized()).norm();
-      d.hog_confidence = impl_->classifier->evaluate(pixel_height, c.x() / c.z(), c.y() / c.z(), image);
-    }
-    std::vector<PersonDetection> kept;
-    std::unordered_map<int, int> relabel;
-    for (std::size_t k = 0; k < out.people.size(); ++k)
-      if (!(out.people[k].hog_confidence < params_.hog_min_confidence))
-      {
-        relabel[static_cast<int>(k)] = static_cast<int>(kept.size());
-        kept.push_back(std::move(out.people[k]));
-      }
-    for (auto it = label_of_voxel.begin(); it != label_of_voxel.end();)
-    {
-      const auto r = relabel.find(it->second);
-      if (r == relabel.end())
-        it = label_of_voxel.erase(it);
-      else
-      {
-        it->second = r->second;
-        ++it;
-      }
-    }
-    out.people.swap(kept);
-  }
-
-  // ---- each person's points at full resolution: those falling in the person's detection voxels,
-  // above the ground ----
-  if (!out.people.empty())
+  // ---- each candidate's points at full resolution: those falling in its detection voxels, above
+  // the ground ----
+  if (!candidates.empty())
   {
     // Most of the room lies outside the people's voxels: a box test spares those the hash lookup.
     const float leaf = params_.detection_voxel_size;
@@ -464,9 +526,89 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
         continue;
       const auto it = label_of_voxel.find(voxelKey(p, inverse_leaf));
       if (it != label_of_voxel.end() && heightAbove(ground, p.getVector3fMap()) > params_.ground_tolerance)
-        out.people[it->second].indices.push_back(i);
+        candidates[it->second].indices.push_back(i);
     }
   }
+
+  // ---- person-likeness in the image (organized clouds): a top that is a head, not the image's
+  // edge; a head that stands free of what is behind it ----
+  if (cloud.height > 1)
+  {
+    std::vector<PersonDetection> kept;
+    for (auto& d : candidates)
+    {
+      if (d.indices.empty())
+        continue;
+      std::uint32_t top_row = cloud.height;
+      for (const auto i : d.indices)
+        top_row = std::min(top_row, static_cast<std::uint32_t>(i / cloud.width));
+      d.top_row = static_cast<int>(top_row);
+      d.free_fraction = freeFraction(cloud, d, ground, origin, params_.free_depth_step);
+      if (params_.reject_top_at_border && d.top_row <= kBorderRows)
+        continue;
+      // Only of a new person: a bending body continuing its track has its back, not a free head, on top.
+      if (!d.weak && !(d.free_fraction >= params_.min_free_fraction))
+        continue;
+      kept.push_back(std::move(d));
+    }
+    candidates.swap(kept);
+  }
+
+  // ---- HOG confirmation (organized clouds only: it needs the image). A person failing it may
+  // still continue a track (weak): HOG wants upright people, a bending one fails ----
+  Eigen::Matrix<float, 3, 4> P;
+  if (impl_->classifier && !candidates.empty() && fitProjection(cloud, P))
+  {
+    out.hog_applied = true;
+    auto image = pcl::make_shared<pcl::PointCloud<pcl::RGB>>(cloud.width, cloud.height);
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+    {
+      (*image)[i].r = cloud[i].r;
+      (*image)[i].g = cloud[i].g;
+      (*image)[i].b = cloud[i].b;
+    }
+    for (auto& d : candidates)
+    {
+      if (d.weak)
+        continue;
+      const Eigen::Vector3f foot = d.centroid - heightAbove(ground, d.centroid) * up;
+      const Eigen::Vector3f head = foot + d.height * up;
+      const Eigen::Vector3f a = P * foot.homogeneous(), b = P * head.homogeneous(),
+                            c = P * (0.5f * (foot + head)).homogeneous();
+      if (!(a.z() > 0 && b.z() > 0 && c.z() > 0))
+        continue;  // behind the camera's image plane: cannot be judged, kept
+      const float pixel_height = (a.hnormalized() - b.hnormalized()).norm();
+      d.hog_confidence = impl_->classifier->evaluate(pixel_height, c.x() / c.z(), c.y() / c.z(), image);
+      if (d.hog_confidence < params_.hog_min_confidence)
+        d.weak = true;
+    }
+  }
+  // ---- a bending body often falls apart into two low clusters (back and head, legs and arms):
+  // weak candidates this close on the floor are one body ----
+  for (std::size_t a = 0; a < candidates.size(); ++a)
+  {
+    if (!candidates[a].weak)
+      continue;
+    for (std::size_t b = a + 1; b < candidates.size();)
+    {
+      PersonDetection& p = candidates[a];
+      const PersonDetection& q = candidates[b];
+      const Eigen::Vector3f d = q.centroid - p.centroid;
+      if (!q.weak || (d - d.dot(up) * up).norm() > kFragmentDistance)
+      {
+        ++b;
+        continue;
+      }
+      const float wp = static_cast<float>(p.voxels), wq = static_cast<float>(q.voxels);
+      p.centroid = (wp * p.centroid + wq * q.centroid) / (wp + wq);
+      p.height = std::max(p.height, q.height);
+      p.width = std::max({p.width, q.width, (d - d.dot(up) * up).norm()});
+      p.voxels += q.voxels;
+      p.indices.insert(p.indices.end(), q.indices.begin(), q.indices.end());
+      candidates.erase(candidates.begin() + static_cast<std::ptrdiff_t>(b));
+    }
+  }
+  out.people.swap(candidates);
   return out;
 }
 

@@ -71,21 +71,76 @@ GroundEstimator::GroundEstimator(const GroundParams& params) : params_(params)
     throw std::invalid_argument("GroundEstimator: bad parameters");
 }
 
+void GroundEstimator::reset()
+{
+  valid_ = has_prior_;
+  source_ = has_prior_ ? Source::Prior : Source::None;
+  plane_ = has_prior_ ? prior_ : Eigen::Vector4f::Zero();
+  since_search_ = 0;
+}
+
+bool GroundEstimator::setPrior(const Eigen::Vector4f& plane, const Eigen::Vector3f& camera)
+{
+  Eigen::Vector4f p = plane;
+  if (!camera.allFinite() || !normalise(p, camera))
+    return false;
+  prior_ = p;
+  has_prior_ = true;
+  if (!valid_ || source_ == Source::Assumed || source_ == Source::Prior)
+  {
+    plane_ = p;
+    valid_ = true;
+    source_ = Source::Prior;
+  }
+  return true;
+}
+
+bool GroundEstimator::close(const Eigen::Vector4f& a, const Eigen::Vector4f& b, const Eigen::Vector3f& camera) const
+{
+  return angleBetween(a.head<3>(), b.head<3>()) <= params_.max_step_angle &&
+         std::abs(heightAbove(a, camera) - heightAbove(b, camera)) <= params_.max_step_offset;
+}
+
 bool GroundEstimator::update(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up_hint)
 {
   if (cloud.size() < static_cast<std::size_t>(params_.min_inliers) || !camera.allFinite() ||
       !(up_hint.norm() > 1e-6f) || !up_hint.allFinite())
     return false;
-  if (valid_ && !assumed_ && refine(cloud, camera))
+  const bool kept = valid_ && (source_ == Source::Measured || source_ == Source::Prior);
+  if (kept && refine(cloud, camera))
+  {
+    // A prior that the visible floor agrees with becomes a measured ground.
+    source_ = Source::Measured;
+    since_search_ = 0;
     return true;
-  // No floor in sight: looking for one in every frame would cost a full search each time.
-  const bool retry = !(valid_ && assumed_) || ++since_search_ >= kAssumedRetry;
+  }
+  // Not confirmed: search at once (the camera may have moved), then only every kAssumedRetry-th
+  // update while nothing confirms the plane (a full search per frame costs too much).
+  const bool retry = source_ == Source::None || since_search_ % kAssumedRetry == 0;
+  ++since_search_;
   if (retry)
   {
-    since_search_ = 0;
-    if (search(cloud, camera, up_hint.normalized()))
-      return true;
+    Eigen::Vector4f found;
+    std::size_t support = 0;
+    // The plausible tilt is judged around the best knowledge of up: the current plane's normal.
+    const Eigen::Vector3f up = kept ? Eigen::Vector3f(plane_.head<3>()) : up_hint.normalized();
+    if (search(cloud, camera, up, found, support))
+    {
+      // An assumption yields to any floor seen; a measured or given ground only to a floor that
+      // agrees with it or is strongly supported.
+      const bool strong = static_cast<float>(support) >= params_.strong_support * params_.min_inliers;
+      if (!kept || close(found, plane_, camera) || strong)
+      {
+        plane_ = found;
+        valid_ = true;
+        source_ = Source::Measured;
+        since_search_ = 0;
+        return true;
+      }
+    }
   }
+  if (kept)
+    return false;  // the floor is hidden: the measured or given ground stays
   if (!params_.assume_below_points)
     return false;
   // Keep the orientation of a floor seen before (the camera's tilt), else trust the hint.
@@ -135,7 +190,7 @@ bool GroundEstimator::assumeBelow(const Cloud& cloud, const Eigen::Vector3f& cam
     return false;
   plane_ = plane;
   valid_ = true;
-  assumed_ = true;
+  source_ = Source::Assumed;
   return true;
 }
 
@@ -166,7 +221,8 @@ bool GroundEstimator::dense(const Cloud& cloud, const pcl::Indices& inliers, con
   return pointsPerCell(cloud, inliers, plane, params_.inlier_distance) >= params_.min_density;
 }
 
-bool GroundEstimator::search(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up)
+bool GroundEstimator::search(const Cloud& cloud, const Eigen::Vector3f& camera, const Eigen::Vector3f& up,
+                             Eigen::Vector4f& found_plane, std::size_t& support)
 {
   ++searches_;
   const Cloud::ConstPtr ptr = borrow(cloud);
@@ -236,14 +292,11 @@ bool GroundEstimator::search(const Cloud& cloud, const Eigen::Vector3f& camera, 
       found = true;
       best = plane;
       best_height = h;
+      support = inliers.size();
     }
   }
   if (found)
-  {
-    plane_ = best;
-    valid_ = true;
-    assumed_ = false;
-  }
+    found_plane = best;
   return found;
 }
 

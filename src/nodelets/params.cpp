@@ -112,6 +112,13 @@ TrackerParams readTrackerParams(const ros::NodeHandle& nh)
   readFloat(nh, "gate", p.gate);
   nh.param("lost_after", p.lost_after, p.lost_after);
   nh.param("confirm_after", p.confirm_after, p.confirm_after);
+  readFloat(nh, "camera_height", p.camera_height);
+  readFloat(nh, "camera_pitch", p.camera_pitch);
+  nh.param("reject_top_at_border", p.reject_top_at_border, p.reject_top_at_border);
+  readFloat(nh, "min_free_fraction", p.min_free_fraction);
+  readFloat(nh, "free_depth_step", p.free_depth_step);
+  readFloat(nh, "tracked_min_height", p.tracked_min_height);
+  readFloat(nh, "tracked_max_width", p.tracked_max_width);
   return p;
 }
 

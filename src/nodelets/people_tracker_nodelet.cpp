@@ -21,7 +21,8 @@ namespace action_flow
  * (PeopleClouds) and `people` (TrackedPeople). Parameters (private): the TrackerParams members
  * (`ground` as a,b,c,d fixes the ground plane, `up_hint` as x,y,z), `fixed_frame` (empty: work in
  * the camera frame; else clouds are transformed into it with tf2, e.g. odom on a moving robot, and
- * up_hint defaults to +z there), `tf_timeout` (s).
+ * up_hint defaults to +z there), `tf_timeout` (s), `ground_from_fixed_frame` (with fixed_frame: its
+ * z = 0 plane is the floor, given to the tracker as its ground prior; default false).
  */
 class PeopleTrackerNodelet : public LazyNodelet
 {
@@ -35,6 +36,15 @@ class PeopleTrackerNodelet : public LazyNodelet
       // A fixed frame such as odom or map is z-up (REP 103), unlike the camera's optical frame.
       if (!fixed_frame_.empty() && !pnh.hasParam("up_hint"))
         params.up_hint = Eigen::Vector3f::UnitZ();
+      // camera_height/camera_pitch describe the ground in the camera's optical frame; with a fixed
+      // frame the clouds are not in it: the ground then comes from tf (ground_from_fixed_frame).
+      if (!fixed_frame_.empty() && params.camera_height > 0.0f)
+      {
+        NODELET_WARN("camera_height/camera_pitch are ignored with a fixed_frame (use ground_from_fixed_frame)");
+        params.camera_height = 0.0f;
+      }
+      if (params.hog_classifier_file == "default" && defaultHogClassifierFile().empty())
+        NODELET_WARN("the default HOG classifier file is not found: no HOG confirmation (see docs/tracker.md)");
       tracker_ = std::make_unique<PeopleTracker>(params);
     }
     catch (const std::exception& e)
@@ -43,6 +53,7 @@ class PeopleTrackerNodelet : public LazyNodelet
       tracker_ = std::make_unique<PeopleTracker>();
     }
     pnh.param("tf_timeout", tf_timeout_, tf_timeout_);
+    pnh.param("ground_from_fixed_frame", ground_from_fixed_frame_, ground_from_fixed_frame_);
     if (!fixed_frame_.empty() && fixed_frame_[0] == '/')
       fixed_frame_.erase(0, 1);
     if (!fixed_frame_.empty())
@@ -94,6 +105,10 @@ class PeopleTrackerNodelet : public LazyNodelet
         cloud = moved;
         camera = pose.translation();
         header.frame_id = fixed_frame_;
+        // The fixed frame's z = 0 is the floor (REP 105: base_footprint, odom, map of a ground
+        // robot): the ground is known from tf, kept while the floor is hidden, refined where seen.
+        if (ground_from_fixed_frame_ && !ground_prior_set_)
+          ground_prior_set_ = tracker_->setGroundPrior(Eigen::Vector4f(0, 0, 1, 0), camera);
       }
       catch (const tf2::TransformException& e)
       {
@@ -149,6 +164,8 @@ class PeopleTrackerNodelet : public LazyNodelet
   std::unique_ptr<PeopleTracker> tracker_;
   std::string fixed_frame_;
   double tf_timeout_ = 0.1;
+  bool ground_from_fixed_frame_ = false;
+  bool ground_prior_set_ = false;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher clouds_pub_, people_pub_;

@@ -6,6 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
 
 using namespace action_flow;
 
@@ -54,7 +57,9 @@ TEST(TrackerRealData, FivePeopleInACorridor)
   const Cloud cloud = test::loadPcd(pcd);
   ASSERT_EQ(cloud.width, 640u);
 
-  PeopleTracker tracker;
+  TrackerParams geometric;
+  geometric.hog_classifier_file.clear();
+  PeopleTracker tracker(geometric);
   const TrackerResult r = twice(tracker, cloud);
   ASSERT_TRUE(r.ground_valid);
   EXPECT_FALSE(r.ground_assumed) << "the corridor floor is visible";
@@ -113,6 +118,7 @@ TEST(TrackerRealData, TueHsrBagsGiveTheOneStandingPerson)
     // Without HOG, the geometry alone still finds exactly one person at 1.5-2.1 m: this one.
     TrackerParams plain;
     plain.min_height = 1.5f;
+    plain.hog_classifier_file.clear();
     PeopleTracker geometric(plain);
     const TrackerResult g = twice(geometric, cloud);
     int near = 0;
@@ -124,4 +130,95 @@ TEST(TrackerRealData, TueHsrBagsGiveTheOneStandingPerson)
       }
     EXPECT_EQ(near, 1);
   }
+}
+
+namespace
+{
+/** One row of test/tracker/real_people.csv. */
+struct RealPerson
+{
+  std::string posture;
+  float x = 0, z = 0;
+  bool required = false;
+};
+
+std::map<std::string, std::vector<RealPerson>> readRealPeople()
+{
+  std::map<std::string, std::vector<RealPerson>> out;
+  std::ifstream in(ACTION_FLOW_TRACKER_TEST_DIR "/real_people.csv");
+  std::string line;
+  bool header = true;
+  while (std::getline(in, line))
+  {
+    if (line.empty() || line[0] == '#')
+      continue;
+    if (header)
+    {
+      header = false;
+      continue;
+    }
+    std::stringstream row(line);
+    std::string frame, person, posture, x, z, expected;
+    std::getline(row, frame, ',');
+    std::getline(row, person, ',');
+    std::getline(row, posture, ',');
+    std::getline(row, x, ',');
+    std::getline(row, z, ',');
+    std::getline(row, expected, ',');
+    out[frame].push_back(RealPerson{posture, std::stof(x), std::stof(z), expected == "yes"});
+  }
+  return out;
+}
+}  // namespace
+
+// With the DEFAULT parameters (HOG with the shipped classifier, the person-likeness cues): every
+// person the table requires is found, and nothing is reported where the table has no person
+// (no wall, shelf, board or furniture). Seated people may be reported (they are people).
+TEST(TrackerRealData, DefaultsFindEveryStandingPersonAndNoFurniture)
+{
+  const auto table = readRealPeople();
+  ASSERT_EQ(table.size(), 6u) << "test/tracker/real_people.csv";
+  if (!test::fileExists(kRealDir + "/pcl_five_people.pcd"))
+    GTEST_SKIP() << "real data absent: " << kRealDir << " (../shared/data is not there)";
+  if (defaultHogClassifierFile().empty())
+    GTEST_SKIP() << "the default HOG classifier is not found (see docs/tracker.md)";
+  int required = 0, found_required = 0, reported = 0, false_reports = 0;
+  for (const auto& [frame, people] : table)
+  {
+    SCOPED_TRACE(frame);
+    const std::string path = kRealDir + "/" + frame;
+    const Cloud cloud = frame.size() > 4 && frame.substr(frame.size() - 4) == ".pcd" ? test::loadPcd(path)
+                                                                                      : test::loadTueBag(path);
+    PeopleTracker tracker;
+    const TrackerResult r = twice(tracker, cloud);
+    ASSERT_TRUE(r.ground_valid);
+    EXPECT_TRUE(r.hog_applied);
+    std::vector<char> found(people.size(), 0);
+    for (const auto& p : r.people)
+    {
+      ++reported;
+      int best = -1;
+      for (std::size_t i = 0; i < people.size(); ++i)
+        if (std::hypot(p.position.x() - people[i].x, p.position.z() - people[i].z) < 0.4f)
+          best = static_cast<int>(i);
+      if (best < 0)
+      {
+        ++false_reports;
+        ADD_FAILURE() << "reported a person where there is none: at (" << p.position.x() << ", " << p.position.z()
+                      << "), height " << p.height;
+        continue;
+      }
+      found[best] = 1;
+    }
+    for (std::size_t i = 0; i < people.size(); ++i)
+      if (people[i].required)
+      {
+        ++required;
+        found_required += found[i];
+        EXPECT_TRUE(found[i]) << people[i].posture << " person at (" << people[i].x << ", " << people[i].z
+                              << ") not found";
+      }
+  }
+  std::printf("real frames, default parameters: %d of %d required people found; %d reports, %d of them false\n",
+              found_required, required, reported, false_reports);
 }

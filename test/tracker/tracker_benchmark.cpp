@@ -1,12 +1,16 @@
 // Per-frame time of PeopleTracker::update on the real 640x480 clouds in ../shared/data/real_rgbd,
 // with what it found in each. Not a test: prints figures.
-//   tracker_benchmark [--runs N] [--hog FILE] [--data DIR]
+//   tracker_benchmark [--runs N] [--hog FILE] [--data DIR] [--png DIR] [--probe U,V]... [--candidates]
 #include "real_data.h"
 
 #include <action_flow/people_tracker.h>
+#include <action_flow/tracker_detector.h>
+
+#include <pcl/io/png_io.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -17,7 +21,108 @@ using namespace action_flow;
 
 namespace
 {
-void run(const std::string& name, const Cloud& cloud, const TrackerParams& params, int runs)
+bool show_candidates = false;  // --candidates
+
+/** Writes the cloud's colours as a PNG with a box (and its pixel bounds printed) around each person. */
+void writePng(const std::string& path, const Cloud& cloud, const TrackerResult& result)
+{
+  std::vector<unsigned char> image(3 * cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i)
+  {
+    image[3 * i] = cloud[i].r;
+    image[3 * i + 1] = cloud[i].g;
+    image[3 * i + 2] = cloud[i].b;
+  }
+  Eigen::Matrix<float, 3, 4> P;
+  if (cloud.height > 1 && fitProjection(cloud, P))
+    for (const auto& p : result.people)
+    {
+      int u0 = 1 << 20, v0 = 1 << 20, u1 = -1, v1 = -1;
+      for (const auto& q : p.cloud->points)
+      {
+        const Eigen::Vector3f x = P * q.getVector3fMap().homogeneous();
+        if (!(x.z() > 0))
+          continue;
+        const int u = static_cast<int>(x.x() / x.z()), v = static_cast<int>(x.y() / x.z());
+        u0 = std::min(u0, u);
+        v0 = std::min(v0, v);
+        u1 = std::max(u1, u);
+        v1 = std::max(v1, v);
+      }
+      if (u1 < 0)
+        continue;
+      u0 = std::max(0, u0);
+      v0 = std::max(0, v0);
+      u1 = std::min<int>(cloud.width - 1, u1);
+      v1 = std::min<int>(cloud.height - 1, v1);
+      std::printf("    id %u: pixels u %d-%d, v %d-%d\n", p.id, u0, u1, v0, v1);
+      const auto paint = [&](int u, int v) {
+        unsigned char* c = &image[3 * (static_cast<std::size_t>(v) * cloud.width + u)];
+        c[0] = 255;
+        c[1] = static_cast<unsigned char>(40 * (p.id % 6));
+        c[2] = 0;
+      };
+      for (int t = 0; t < 2; ++t)
+      {
+        for (int u = u0; u <= u1; ++u)
+        {
+          paint(u, std::min(v1, v0 + t));
+          paint(u, std::max(v0, v1 - t));
+        }
+        for (int v = v0; v <= v1; ++v)
+        {
+          paint(std::min(u1, u0 + t), v);
+          paint(std::max(u0, u1 - t), v);
+        }
+      }
+    }
+  pcl::io::saveRgbPNGFile(path, image.data(), static_cast<int>(cloud.width), static_cast<int>(cloud.height));
+}
+
+/** Prints the median point (camera frame) of the 7x7 pixels around each probe (u, v). */
+void probe(const Cloud& cloud, const std::vector<std::pair<int, int>>& probes)
+{
+  for (const auto& uv : probes)
+  {
+    std::vector<float> x, y, z;
+    for (int v = uv.second - 3; v <= uv.second + 3; ++v)
+      for (int u = uv.first - 3; u <= uv.first + 3; ++u)
+        if (u >= 0 && v >= 0 && u < static_cast<int>(cloud.width) && v < static_cast<int>(cloud.height) &&
+            std::isfinite(cloud.at(u, v).z))
+        {
+          x.push_back(cloud.at(u, v).x);
+          y.push_back(cloud.at(u, v).y);
+          z.push_back(cloud.at(u, v).z);
+        }
+    if (z.empty())
+    {
+      std::printf("    probe (%d, %d): no depth\n", uv.first, uv.second);
+      continue;
+    }
+    for (auto* c : {&x, &y, &z})
+      std::nth_element(c->begin(), c->begin() + c->size() / 2, c->end());
+    std::printf("    probe (%d, %d): (%.2f %.2f %.2f), %.2f m away\n", uv.first, uv.second, x[x.size() / 2],
+                y[y.size() / 2], z[z.size() / 2], std::hypot(x[x.size() / 2], z[z.size() / 2]));
+  }
+}
+
+/** Every candidate of one frame with the person-likeness cues computed but not applied. */
+void candidates(const Cloud& cloud, TrackerParams params)
+{
+  params.reject_top_at_border = false;
+  params.min_free_fraction = 0.0f;
+  params.tracked_min_height = params.min_height;
+  PeopleDetector detector(params);
+  detector.detect(cloud, Eigen::Vector3f::Zero());
+  const DetectionResult r = detector.detect(cloud, Eigen::Vector3f::Zero());
+  for (const auto& d : r.people)
+    std::printf("    candidate at (%.2f %.2f %.2f), %.2f m away: height %.2f, width %.2f, top row %d, free %.2f, "
+                "hog %.2f%s\n", d.centroid.x(), d.centroid.y(), d.centroid.z(), std::hypot(d.centroid.x(), d.centroid.z()),
+                d.height, d.width, d.top_row, d.free_fraction, d.hog_confidence, d.weak ? " (weak)" : "");
+}
+
+void run(const std::string& name, const Cloud& cloud, const TrackerParams& params, int runs,
+         const std::string& png_dir = std::string(), const std::vector<std::pair<int, int>>& probes = {})
 {
   // Each run is a fresh tracker: the first frame of a stream, ground search included (the worst case),
   // then one more frame of the same tracker (the steady state: ground refined, tracks associated).
@@ -48,6 +153,11 @@ void run(const std::string& name, const Cloud& cloud, const TrackerParams& param
                 p.position.x(), p.position.y(), p.position.z(), dist, p.height, p.cloud->size(),
                 params.person_voxel_size, p.hog_confidence);
   }
+  if (!png_dir.empty())
+    writePng(png_dir + "/" + name + ".png", cloud, last);
+  probe(cloud, probes);
+  if (show_candidates)
+    candidates(cloud, params);
 }
 }  // namespace
 
@@ -55,6 +165,8 @@ int main(int argc, char** argv)
 {
   int runs = 30;
   std::string data = test::dataDir();
+  std::string png_dir;  // --png DIR: each frame's colour image with the people boxed
+  std::vector<std::pair<int, int>> probes;  // --probe U,V: print the point at that pixel
   TrackerParams params;
   params.confirm_after = 1;
   for (int i = 1; i < argc; ++i)
@@ -70,10 +182,20 @@ int main(int argc, char** argv)
       params.max_range = std::atof(argv[++i]);
     else if (a == "--min-height" && i + 1 < argc)
       params.min_height = std::atof(argv[++i]);
+    else if (a == "--candidates")
+      show_candidates = true;
+    else if (a == "--png" && i + 1 < argc)
+      png_dir = argv[++i];
+    else if (a == "--probe" && i + 1 < argc)
+    {
+      int u = 0, v = 0;
+      if (std::sscanf(argv[++i], "%d,%d", &u, &v) == 2)
+        probes.emplace_back(u, v);
+    }
     else
     {
       std::fprintf(stderr, "tracker_benchmark: unknown argument '%s' (use --runs N, --hog FILE, --data DIR, "
-                           "--max-range M, --min-height M)\n", a.c_str());
+                           "--max-range M, --min-height M, --png DIR, --probe U,V, --candidates)\n", a.c_str());
       return 2;
     }
   }
@@ -88,9 +210,9 @@ int main(int argc, char** argv)
   try
   {
     if (test::fileExists(pcd))
-      run("pcl_five_people.pcd", test::loadPcd(pcd), params, runs);
+      run("pcl_five_people.pcd", test::loadPcd(pcd), params, runs, png_dir, probes);
     for (const auto& b : bags)
-      run(b.substr(b.rfind('/') + 1), test::loadTueBag(b), params, runs);
+      run(b.substr(b.rfind('/') + 1), test::loadTueBag(b), params, runs, png_dir, probes);
   }
   catch (const std::exception& e)
   {
