@@ -19,7 +19,9 @@
  *
  * With a model whose descriptors carry no shape (the paper's), online falls back to a sliding
  * window of the last `window` seconds, with the same stability and rejection rules; a label is
- * published when it differs from the last one published for that track.
+ * published (Started) when it differs from the last one published for that track, and closed
+ * (Ended, its span up to the last window that still showed it) when another stable label or an
+ * idle one takes over, or the track ends.
  */
 #pragma once
 
@@ -105,7 +107,7 @@ public:
 
   /**
    * @brief The next frame descriptor of track @p id at @p stamp. Returns the labels decided now
-   *        (online: at most one per call; segmented: none).
+   *        (online: at most an Ended and a Started; segmented: none).
    * @throws std::invalid_argument if @p frame does not have the model's frame descriptor length
    */
   std::vector<LabelEvent> add(std::uint32_t id, const Eigen::VectorXf& frame, double stamp);
@@ -148,7 +150,7 @@ private:
     int candidate_count = 0;
     bool active = false;       // a motion segment is open
     double segment_start = 0;  // stamp where the motion began
-    double last_motion = 0;    // last stamp with motion above motion_off
+    double last_motion = 0;    // last stamp with motion above motion_off (sliding window: that showed the published label)
     bool published_in_segment = false;
     std::string segment_label;
     double published_start = 0;

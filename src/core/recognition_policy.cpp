@@ -114,17 +114,32 @@ std::vector<LabelEvent> RecognitionPolicy::addOnline(std::uint32_t id, Track& t)
     t.since_classified = 0;
     std::size_t n = 0;
     const auto c = classify(t, t.frames.front().stamp, now, &n);
-    if (!c || !stable(t, *c))
+    if (!c)
       return {};
-    if (!publishable(*c))
-    {
-      t.published.clear();  // stillness: the same action after it is a new one
-      return {};
-    }
     if (c->label == t.published)
+      t.last_motion = now;  // the window still shows the published action
+    if (!stable(t, *c))
       return {};
-    t.published = c->label;
-    return { event(LabelEvent::Kind::Started, *c, t.frames.front().stamp, now, n) };
+    const bool keep = publishable(*c);
+    if (keep && c->label == t.published)
+      return {};
+    std::vector<LabelEvent> out;
+    if (!t.published.empty())  // the published action is over: its span ends at the last window that showed it
+    {
+      LabelEvent e = event(LabelEvent::Kind::Ended, Classification(), t.published_start, t.last_motion, 0);
+      e.result.label = t.published;
+      e.closes_published = true;
+      out.push_back(e);
+      t.published.clear();  // stillness: the same action after it is a new one
+    }
+    if (keep)
+    {
+      t.published = c->label;
+      t.published_start = t.frames.front().stamp;
+      t.last_motion = now;
+      out.push_back(event(LabelEvent::Kind::Started, *c, t.published_start, now, n));
+    }
+    return out;
   }
 
   const double motion = smoothedMotion(t);
@@ -279,6 +294,17 @@ std::vector<LabelEvent> RecognitionPolicy::end(std::uint32_t id)
   {
     if (auto e = closeSegment(id, t))
       out.push_back(*e);
+  }
+  else if (!use_motion_ && !t.published.empty())  // sliding window: the published action ends with the track
+  {
+    LabelEvent e;
+    e.kind = LabelEvent::Kind::Ended;
+    e.track = id;
+    e.result.label = t.published;
+    e.closes_published = true;
+    e.start = t.published_start;
+    e.end = t.last_motion;
+    out.push_back(e);
   }
   tracks_.erase(it);
   return out;

@@ -183,8 +183,10 @@ TEST(RecognitionPolicy, IdleLabelsAreNeverPublished)
   p.idle_labels.clear();
   RecognitionPolicy no_idle(model(), p);
   const auto events = play(no_idle, { { "standing", 8.0 } });
-  ASSERT_EQ(events.size(), 1u);  // published once, when stable, not again while it stays the same
+  ASSERT_EQ(events.size(), 2u);  // published once, when stable, not again while it stays the same
   EXPECT_EQ(events[0].event.result.label, "standing");
+  EXPECT_EQ(events[1].event.kind, LabelEvent::Kind::Ended);  // closed when the track ends
+  EXPECT_TRUE(events[1].event.closes_published);
 }
 
 TEST(RecognitionPolicy, SlidingWindowPublishesEachChangeOnce)
@@ -193,11 +195,20 @@ TEST(RecognitionPolicy, SlidingWindowPublishesEachChangeOnce)
   p.motion_segments = false;
   RecognitionPolicy policy(model(), p);
   const auto events = play(policy, { { "wave", 5.0 }, { "kick", 5.0 } });
-  ASSERT_EQ(events.size(), 2u);
+  ASSERT_EQ(events.size(), 4u);
+  EXPECT_EQ(events[0].event.kind, LabelEvent::Kind::Started);
   EXPECT_EQ(events[0].event.result.label, "wave");
-  EXPECT_EQ(events[1].event.result.label, "kick");
-  EXPECT_GT(events[1].at, 5.0);
   EXPECT_GE(events[0].at, p.min_coverage * p.window);
+  // When kick takes over, wave is closed at the last window that showed it, then kick starts.
+  EXPECT_EQ(events[1].event.kind, LabelEvent::Kind::Ended);
+  EXPECT_EQ(events[1].event.result.label, "wave");
+  EXPECT_GT(events[1].event.end, 5.0);
+  EXPECT_LT(events[1].event.end, 5.0 + p.window);
+  EXPECT_EQ(events[2].event.kind, LabelEvent::Kind::Started);
+  EXPECT_EQ(events[2].event.result.label, "kick");
+  EXPECT_GT(events[2].at, 5.0);
+  EXPECT_EQ(events[3].event.kind, LabelEvent::Kind::Ended);
+  EXPECT_EQ(events[3].event.result.label, "kick");
 }
 
 TEST(RecognitionPolicy, RejectionThresholdSilencesUnsureLabels)

@@ -515,10 +515,15 @@ TEST(Classifier, OnlinePublishesEachStableLabelOnce)
   double t = publishTrack(pub, 4, 1, 40, 50.0);
   ASSERT_TRUE(labels.waitForCount(1, 5.0));
   t = publishTrack(pub, 4, 0, 40, t);
-  ASSERT_TRUE(labels.waitForCount(2, 5.0));
+  ASSERT_TRUE(labels.waitForCount(3, 5.0));
   ros::WallDuration(0.5).sleep();
-  const auto l = labels.messages();
-  ASSERT_EQ(l.size(), 2u) << "a stable label was published more than once";
+  const auto all = labels.messages();
+  // push, then push's end (ONLINE_END, its span) when raise takes over, then raise.
+  ASSERT_EQ(all.size(), 3u) << "a stable label was published more than once";
+  EXPECT_EQ(all[1]->mode, ActionLabel::ONLINE_END);
+  EXPECT_EQ(all[1]->label, "push");
+  EXPECT_GE(all[1]->window_end, all[0]->window_end);
+  const std::vector<ActionLabel::ConstPtr> l = { all[0], all[2] };
   EXPECT_EQ(l[0]->label, "push");
   EXPECT_EQ(l[1]->label, "raise");
   for (const auto& m : l)
