@@ -1,19 +1,23 @@
 # ROS wrappers: the pipeline's nodelets, their test aids, launch checks and rostests.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OPENNI2 REQUIRED libopenni2)
+# The same components as synth.cmake: OpenCV_LIBRARIES is read again by the files included after this one.
+find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
 
 # Stage types (zero-copy message traits) and parameter reading, shared by every nodelet.
 add_library(action_flow_ros src/nodelets/stage_types.cpp src/nodelets/params.cpp src/nodelets/input_checks.cpp)
 add_dependencies(action_flow_ros ${PROJECT_NAME}_generate_messages_cpp)
 target_link_libraries(action_flow_ros action_flow_core ${catkin_LIBRARIES})
 
-# Flow, descriptor and classifier stages.
+# Flow, descriptor and classifier stages, the image guard and the annotator (OpenCV draws).
 add_library(action_flow_nodelets
   src/nodelets/flow_nodelet.cpp
   src/nodelets/descriptor_nodelet.cpp
   src/nodelets/classifier_nodelet.cpp
-  src/nodelets/image_guard_nodelet.cpp)
-target_link_libraries(action_flow_nodelets action_flow_ros)
+  src/nodelets/image_guard_nodelet.cpp
+  src/nodelets/annotator_nodelet.cpp)
+target_include_directories(action_flow_nodelets SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+target_link_libraries(action_flow_nodelets action_flow_ros ${OpenCV_LIBRARIES})
 
 # OpenNI2 driver.
 add_library(action_flow_driver src/driver/openni2_device.cpp src/nodelets/driver_nodelet.cpp)
@@ -38,7 +42,7 @@ install(TARGETS action_flow_ros action_flow_nodelets action_flow_driver action_f
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 install(FILES nodelets.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
-install(DIRECTORY launch config DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(DIRECTORY launch config rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
   find_package(rostest REQUIRED)
@@ -72,7 +76,9 @@ if(CATKIN_ENABLE_TESTING)
   add_executable(test_real_data EXCLUDE_FROM_ALL test/ros/test_real_data.cpp)
   target_link_libraries(test_real_data ${catkin_LIBRARIES} ${PCL_LIBRARIES} gtest)
   add_dependencies(test_real_data ${PROJECT_NAME}_generate_messages_cpp)
-  add_dependencies(tests test_load_all test_stages test_real_data)
+  add_executable(test_annotator EXCLUDE_FROM_ALL test/ros/test_annotator.cpp)
+  target_link_libraries(test_annotator action_flow_ros ${catkin_LIBRARIES} gtest)
+  add_dependencies(tests test_load_all test_stages test_real_data test_annotator)
 
   set(ACTION_FLOW_MODEL_ARGS model:=${ACTION_FLOW_TEST_MODELS}/two_actions.afm
                              corrupt_model:=${ACTION_FLOW_TEST_MODELS}/corrupt.afm)
@@ -95,4 +101,6 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/real_data.test ARGS data:=${PROJECT_SOURCE_DIR}/../shared/data DEPENDENCIES test_real_data)
   add_rostest(test/ros/driver_dummy.test DEPENDENCIES test_stages)
   add_rostest(test/ros/driver_absent.test DEPENDENCIES test_stages)
+  add_rostest(test/ros/annotator.test DEPENDENCIES test_annotator)
+  add_rostest(test/ros/annotator_scene.test DEPENDENCIES test_annotator)
 endif()
