@@ -20,6 +20,14 @@ using test::Wall;
 
 namespace
 {
+// A real sensor's tracker (kinect.launch): the defaults plus HOG with the shipped classifier.
+TrackerParams sensorParams()
+{
+  TrackerParams p;
+  p.hog_classifier_file = "default";
+  return p;
+}
+
 /** Angle (rad) and camera-height difference (m) between two ground planes. */
 float groundAngle(const Eigen::Vector4f& a, const Eigen::Vector4f& b)
 {
@@ -194,7 +202,11 @@ TEST(TrackerLikeness, FurnitureAloneGivesNone)
   cabinet.half = Eigen::Vector3f(0.3f, 0.35f, 0.95f);
   room.boxes.push_back(cabinet);
   const synth::SceneRenderer scene(camera, room);
-  PeopleTracker tracker;
+  if (defaultHogClassifierFile().empty())
+    GTEST_SKIP() << "the default HOG classifier is not found (see docs/tracker.md)";
+  // With the tracker's defaults alone (no HOG) the 1.9 m cabinet is reported: HOG is what a real
+  // sensor's configuration adds against furniture.
+  PeopleTracker tracker(sensorParams());
   for (int k = 0; k < 5; ++k)
   {
     synth::FrameImages images;
@@ -226,7 +238,8 @@ SampleTrack trackSample(const std::string& action, const std::string& person)
   spec.person = person;
   spec.action = action;
   const synth::SampleRenderer sample(spec);
-  PeopleTracker tracker;
+  // A real sensor's configuration: with the defaults alone (no HOG) the room's chair is reported too.
+  PeopleTracker tracker(sensorParams());
   SampleTrack out;
   out.frames = sample.frames();
   Cloud cloud;
@@ -265,6 +278,8 @@ TEST(TrackerPostures, BendingAndKickingPeopleKeepTheirTrack)
            {"pick_up", "p01"}, {"pick_up", "p02"}, {"kick", "p03"}})
     {
       SCOPED_TRACE(action + " " + person);
+      if (defaultHogClassifierFile().empty())
+        GTEST_SKIP() << "the default HOG classifier is not found (see docs/tracker.md)";
       const SampleTrack t = trackSample(action, person);
       ASSERT_GT(t.frames, 20);
       EXPECT_EQ(t.ids.size(), 1u) << "the actor changed track id";
