@@ -48,5 +48,31 @@ struct StreamMotion
 StreamMotion composeStream(const Actor& actor, const std::vector<std::string>& actions, std::uint64_t stream_seed,
                            double fps);
 
+/** One MSR Action3D recording in the world frame, where it was recorded, at the camera's rate. */
+struct MsrMotion
+{
+  std::vector<Skeleton> joints;           // per frame, world (x away from the camera, z up, feet on the floor)
+  std::vector<Eigen::Vector3f> forward;   // per frame, body facing, world
+  float height = 1.75f;                   // the body's height estimated from the skeleton (m)
+};
+
+/**
+ * @brief Converts @p file (docs/synth.md, "MSR Action3D"): untracked frames interpolated, the
+ *        recording camera's pitch removed, x un-mirrored, feet on the floor, the height estimated,
+ *        15 fps resampled linearly to @p fps.
+ * @throws std::runtime_error if the file has no tracked frame
+ */
+MsrMotion msrMotion(const MsrSkeletonFile& file, double fps);
+
+/**
+ * @brief Composes MSR recordings in a row at @p fps (see docs/synth.md, "MSR streams"): each
+ *        re-centred to where the first one starts (the subject stays on the spot), a segment of
+ *        ground truth for the whole of each, labelled @p actions; 1-2 s of held first pose before and
+ *        of held last pose after (breathing), and between two a held pose then a transition into
+ *        the next one's first pose, together 0.5-3 s. Deterministic in @p stream_seed.
+ */
+StreamMotion composeMsrStream(const std::vector<MsrMotion>& sequences, const std::vector<std::string>& actions,
+                              std::uint64_t stream_seed, double fps);
+
 }  // namespace synth
 }  // namespace action_flow

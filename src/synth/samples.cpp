@@ -1,5 +1,6 @@
 // Actors, the sample lists of the datasets, and the per-sample renderer (placement of the actor in
-// view, camera pose, room, streams' ground truth, MSR skeleton conversion and resampling).
+// view, camera pose, room, streams' ground truth, MSR skeleton conversion and resampling, MSR
+// streams and segments files).
 #include <action_flow/synth/synth.h>
 
 #include "motion.h"
@@ -8,12 +9,14 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 namespace action_flow
@@ -83,6 +86,16 @@ std::string SampleSpec::name() const
   }
   if (dataset == "stream")
     return person + "_stream_" + std::to_string(repetition);
+  if (dataset == "msr_stream")
+  {
+    if (segments_file.empty())
+      return person + "_msr_stream_" + std::to_string(repetition);
+    std::string stem = std::filesystem::path(skeleton_file).stem().string();
+    for (char& c : stem)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-')
+        c = '_';
+    return stem;
+  }
   return person + "_" + action + "_" + std::to_string(repetition);
 }
 
@@ -240,6 +253,7 @@ struct SampleRenderer::Impl
   void buildIas();
   void buildStream();
   void buildMsr();
+  void buildMsrStream();
   void drawCamera(Rng& r);
   bool visible(const std::vector<Skeleton>& joints, int step) const;
 };
@@ -404,12 +418,11 @@ void SampleRenderer::Impl::buildStream()
   scene.reset(new SceneRenderer(camera, room));
 }
 
-void SampleRenderer::Impl::buildMsr()
+MsrMotion msrMotion(const MsrSkeletonFile& file, double fps)
 {
-  const MsrSkeletonFile file = parseMsrSkeletonFile(spec.skeleton_file);
   const int n = int(file.frames.size());
   if (file.trackedFrames() == 0)
-    throw std::runtime_error(spec.skeleton_file + ": no tracked frame (all joints zero)");
+    throw std::runtime_error(file.path + ": no tracked frame (all joints zero)");
   std::vector<Skeleton> cam(n);
   for (int f = 0; f < n; ++f)
     if (file.tracked[f])
@@ -466,35 +479,142 @@ void SampleRenderer::Impl::buildMsr()
   std::sort(sorted.begin(), sorted.end());
   const float floor_z = sorted[sorted.size() / 20];
   std::sort(head_h.begin(), head_h.end());
-  const float height = std::clamp(head_h[head_h.size() / 2] / 0.89f, 1.45f, 2.05f);
-  actor = makeActor(spec.person, spec.seed);
-  actor.shape.height = height;
-  const float ankle = 0.039f * height;
+  MsrMotion out;
+  out.height = std::clamp(head_h[head_h.size() / 2] / 0.89f, 1.45f, 2.05f);
+  const float ankle = 0.039f * out.height;
   for (auto& s : w)
     for (auto& p : s.joints)
       p.z() += ankle - floor_z;
   // 15 fps to the camera's rate, linearly.
-  const double ratio = 15.0 / camera.fps;
+  const double ratio = 15.0 / fps;
   const int out_n = std::max(1, int(std::floor((n - 1) / ratio)) + 1);
-  world.resize(out_n);
-  forward.resize(out_n);
+  out.joints.resize(out_n);
+  out.forward.resize(out_n);
   for (int i = 0; i < out_n; ++i)
   {
     const double src = i * ratio;
     const int a = std::min(n - 1, int(std::floor(src))), b = std::min(n - 1, a + 1);
     const float t = float(src - a);
     for (int k = 0; k < kJointCount; ++k)
-      world[i].joints[k] = w[a].joints[k] + t * (w[b].joints[k] - w[a].joints[k]);
-    const Skeleton& s = world[i];
+      out.joints[i].joints[k] = w[a].joints[k] + t * (w[b].joints[k] - w[a].joints[k]);
+    const Skeleton& s = out.joints[i];
     const Eigen::Vector3f left = (s[Joint::LeftShoulder] - s[Joint::RightShoulder]) + (s[Joint::LeftHip] - s[Joint::RightHip]);
     Eigen::Vector3f fwd = left.cross(Eigen::Vector3f::UnitZ());
     fwd.z() = 0;
-    forward[i] = fwd.norm() > 1e-4f ? Eigen::Vector3f(fwd.normalized()) : Eigen::Vector3f(-1, 0, 0);
+    out.forward[i] = fwd.norm() > 1e-4f ? Eigen::Vector3f(fwd.normalized()) : Eigen::Vector3f(-1, 0, 0);
   }
+  return out;
+}
+
+namespace
+{
+/**
+ * The truth of a continuous MSR-format file: rows "action,first_frame,last_frame" in the file's
+ * frames (0..source_frames-1), an optional header line; frames f become f / ratio at the camera's rate.
+ */
+std::vector<StreamSegment> readSegmentsFile(const std::string& path, int source_frames, double ratio)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw std::runtime_error(path + ": cannot open");
+  std::vector<StreamSegment> out;
+  std::string line;
+  int line_no = 0, previous_last = -1;
+  const auto fail = [&](const std::string& what) {
+    throw std::runtime_error(path + ":" + std::to_string(line_no) + ": " + what);
+  };
+  const auto frame = [&](const std::string& field) {
+    size_t pos = 0;
+    int v = -1;
+    try
+    {
+      v = std::stoi(field, &pos);
+    }
+    catch (const std::exception&)
+    {
+      pos = 0;
+    }
+    if (pos == 0 || pos != field.size())
+      fail("expected a frame number, got '" + field + "'");
+    return v;
+  };
+  while (std::getline(in, line))
+  {
+    ++line_no;
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' '))
+      line.pop_back();
+    if (line.empty() || (line_no == 1 && line == "action,first_frame,last_frame"))
+      continue;
+    std::vector<std::string> fields;
+    std::istringstream ls(line);
+    for (std::string f; std::getline(ls, f, ',');)
+      fields.push_back(f);
+    if (fields.size() != 3 || fields[0].empty())
+      fail("expected 'action,first_frame,last_frame', got '" + line + "'");
+    const int first = frame(fields[1]), last = frame(fields[2]);
+    if (first < 0 || last < first || last >= source_frames)
+      fail("frames " + fields[1] + ".." + fields[2] + " are not an interval of the skeleton file's 0.." +
+           std::to_string(source_frames - 1));
+    if (first <= previous_last)
+      fail("segment " + fields[1] + ".." + fields[2] + " starts before the previous one ends");
+    previous_last = last;
+    out.push_back({ fields[0], int(std::lround(first / ratio)), int(std::lround(last / ratio)) });
+  }
+  return out;
+}
+}  // namespace
+
+void SampleRenderer::Impl::buildMsr()
+{
+  MsrMotion motion = msrMotion(parseMsrSkeletonFile(spec.skeleton_file), camera.fps);
+  actor = makeActor(spec.person, spec.seed);
+  actor.shape.height = motion.height;
+  world = std::move(motion.joints);
+  forward = std::move(motion.forward);
   Room room = Room::lab(std::uint32_t(spec.seed));
   addSpareChair(room, spec.seed);
   scene.reset(new SceneRenderer(camera, room));
-  segments = { { spec.action, 0, out_n - 1 } };
+  segments = { { spec.action, 0, int(world.size()) - 1 } };
+}
+
+void SampleRenderer::Impl::buildMsrStream()
+{
+  std::vector<float> heights;
+  StreamMotion motion;
+  if (spec.segments_file.empty())
+  {
+    std::vector<MsrMotion> sequences;
+    std::vector<std::string> actions;
+    for (const SampleSpec& s : msrStreamSequences(spec))  // validates the spec
+    {
+      sequences.push_back(msrMotion(parseMsrSkeletonFile(s.skeleton_file), camera.fps));
+      actions.push_back(s.action);
+      heights.push_back(sequences.back().height);
+    }
+    motion = composeMsrStream(sequences, actions, hash64(spec.seed, hashString(spec.name()), 0x4e9), camera.fps);
+  }
+  else
+  {
+    if (!spec.action.empty() && spec.action != "stream")
+      throw std::invalid_argument("a stream's action must be 'stream', got '" + spec.action + "'");
+    const MsrSkeletonFile file = parseMsrSkeletonFile(spec.skeleton_file);
+    MsrMotion m = msrMotion(file, camera.fps);
+    heights.push_back(m.height);
+    motion.joints = std::move(m.joints);
+    motion.forward = std::move(m.forward);
+    motion.segments = readSegmentsFile(spec.segments_file, int(file.frames.size()), 15.0 / camera.fps);
+  }
+  // One body for the whole stream: the median of the recordings' height estimates.
+  std::sort(heights.begin(), heights.end());
+  actor = makeActor(spec.person.empty() ? "s01" : spec.person, spec.seed);
+  actor.shape.height = heights[heights.size() / 2];
+  world = std::move(motion.joints);
+  forward = std::move(motion.forward);
+  segments = std::move(motion.segments);
+  label = "stream";
+  Room room = Room::lab(std::uint32_t(spec.seed));
+  addSpareChair(room, spec.seed);
+  scene.reset(new SceneRenderer(camera, room));
 }
 
 SampleRenderer::SampleRenderer(const SampleSpec& spec, const CameraModel& camera) : impl_(new Impl)
@@ -512,8 +632,14 @@ SampleRenderer::SampleRenderer(const SampleSpec& spec, const CameraModel& camera
       throw std::invalid_argument("msr sample '" + spec.name() + "' without a skeleton file");
     impl_->buildMsr();
   }
+  else if (spec.dataset == "msr_stream")
+  {
+    if (spec.skeleton_file.empty())
+      throw std::invalid_argument("msr_stream sample '" + spec.name() + "' without an MSR folder or skeleton file");
+    impl_->buildMsrStream();
+  }
   else
-    throw std::invalid_argument("unknown dataset '" + spec.dataset + "' (expected ias, stream or msr)");
+    throw std::invalid_argument("unknown dataset '" + spec.dataset + "' (expected ias, stream, msr or msr_stream)");
   impl_->noise_seed = hash64(spec.seed, hashString(spec.dataset + "/" + spec.name()), 0x4015e);
   impl_->frames = int(impl_->world.size());
   if (spec.max_frames > 0)

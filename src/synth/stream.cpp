@@ -1,6 +1,8 @@
 // Continuous streams of actions (dataset "stream"): which actions a stream performs (shuffle bags
 // per person) and how their performances are joined into one motion: placement and heading in the
-// room, transitions, idle periods, the seated pause between sit_down and get_up, the chairs.
+// room, transitions, idle periods, the seated pause between sit_down and get_up, the chairs. And
+// streams of real motion (dataset "msr_stream"): which MSR Action3D sequences of a subject a stream
+// performs, and how they are joined with the same transitions.
 #include "motion.h"
 #include "random.h"
 
@@ -11,6 +13,7 @@
 #include <cstdio>
 #include <deque>
 #include <limits>
+#include <map>
 #include <regex>
 #include <stdexcept>
 
@@ -74,6 +77,85 @@ Eigen::Isometry3f rootAt(const Eigen::Vector2f& place, float yaw)
   return root;
 }
 
+/** Shuffles @p v in place (Fisher-Yates). */
+template <typename T>
+void shuffle(std::vector<T>& v, Rng& rng)
+{
+  for (size_t i = v.size(); i > 1; --i)
+    std::swap(v[i - 1], v[size_t(rng.integer(0, int(i - 1)))]);
+}
+
+Skeleton transformed(const Skeleton& s, const Eigen::Isometry3f& t)
+{
+  Skeleton o;
+  for (int k = 0; k < kJointCount; ++k)
+    o.joints[k] = t * s.joints[k];
+  return o;
+}
+
+/** Appends frames [first, first + count) of a piece placed by @p root; returns the index of its frame 0. */
+int appendPlaced(StreamMotion& out, const std::vector<Skeleton>& joints, const std::vector<Eigen::Vector3f>& forward,
+                 const Eigen::Isometry3f& root, int first, int count)
+{
+  const int start = int(out.joints.size()) - first;
+  for (int i = first; i < first + count; ++i)
+  {
+    out.joints.push_back(transformed(joints[size_t(i)], root));
+    out.forward.push_back(root.linear() * forward[size_t(i)]);
+  }
+  return start;
+}
+
+/**
+ * Appends n frames from the last pose so far to @p to: the joints relative to the pelvis's
+ * vertical axis and the body's heading are interpolated, the pelvis moves and the heading turns
+ * between them.
+ */
+void blendInto(StreamMotion& out, const Skeleton& to, const Eigen::Vector3f& to_forward, int n)
+{
+  const Skeleton from = out.joints.back();
+  const float heading = headingOf(out.forward.back());
+  const float turn = std::remainder(headingOf(to_forward) - heading, 2 * kPi);
+  const Eigen::Vector3f pa = flat(pelvisOf(from)), pb = flat(pelvisOf(to));
+  const Eigen::Matrix3f ra = rotZ(-heading), rb = rotZ(-(heading + turn));
+  Skeleton la, lb;
+  for (int k = 0; k < kJointCount; ++k)
+  {
+    la.joints[k] = ra * (from.joints[k] - pa);
+    lb.joints[k] = rb * (to.joints[k] - pb);
+  }
+  for (int i = 1; i <= n; ++i)
+  {
+    const float t = ease(float(i) / float(n + 1));
+    const float h = heading + t * turn;
+    const Eigen::Matrix3f rot = rotZ(h);
+    const Eigen::Vector3f pelvis = pa + t * (pb - pa);
+    Skeleton s;
+    for (int k = 0; k < kJointCount; ++k)
+      s.joints[k] = pelvis + rot * (la.joints[k] + t * (lb.joints[k] - la.joints[k]));
+    out.joints.push_back(s);
+    out.forward.push_back(Eigen::Vector3f(std::cos(h), std::sin(h), 0));
+  }
+}
+
+/** Appends n frames of the last pose so far, breathing (the upper body lifts, @p period seconds). */
+void holdBreathing(StreamMotion& out, int n, double period, double fps)
+{
+  const Skeleton base = out.joints.back();
+  const Eigen::Vector3f forward = out.forward.back();
+  for (int i = 1; i <= n; ++i)
+  {
+    const float lift = kBreathLift * 0.5f * float(1 - std::cos(2 * kPi * i / (fps * period)));
+    Skeleton s = base;
+    for (Joint j : { Joint::Head, Joint::Neck, Joint::LeftShoulder, Joint::RightShoulder })
+      s[j].z() += lift;
+    for (Joint j : { Joint::Torso, Joint::LeftElbow, Joint::RightElbow })
+      s[j].z() += 0.5f * lift;
+    out.joints.push_back(s);
+    out.forward.push_back(forward);
+  }
+}
+
 void validateStream(const SampleSpec& spec)
 {
   if (spec.dataset != "stream")
@@ -135,20 +217,7 @@ public:
   void seated()
   {
     const int n = frames(kIdleMin, kIdleMax);
-    const double period = r_.uniform(kBreathMin, kBreathMax);
-    const Skeleton base = out_.joints.back();
-    const Eigen::Vector3f forward = out_.forward.back();
-    for (int i = 1; i <= n; ++i)
-    {
-      const float lift = kBreathLift * 0.5f * float(1 - std::cos(2 * kPi * i / (fps_ * period)));
-      Skeleton s = base;
-      for (Joint j : { Joint::Head, Joint::Neck, Joint::LeftShoulder, Joint::RightShoulder })
-        s[j].z() += lift;
-      for (Joint j : { Joint::Torso, Joint::LeftElbow, Joint::RightElbow })
-        s[j].z() += 0.5f * lift;
-      out_.joints.push_back(s);
-      out_.forward.push_back(forward);
-    }
+    holdBreathing(out_, n, r_.uniform(kBreathMin, kBreathMax), fps_);
   }
 
   /** Performs @p action (repetition seed @p rep_seed) where the actor is; a segment of ground truth. */
@@ -234,54 +303,9 @@ private:
   int add(const Performance& perf, const Eigen::Isometry3f& root, int first, int count)
   {
     if (!out_.joints.empty())
-      blend(transformed(perf.joints[size_t(first)], root), root.linear() * perf.forward[size_t(first)],
-            frames(kBlendMin, kBlendMax));
-    const int start = int(out_.joints.size()) - first;
-    for (int i = first; i < first + count; ++i)
-    {
-      out_.joints.push_back(transformed(perf.joints[size_t(i)], root));
-      out_.forward.push_back(root.linear() * perf.forward[size_t(i)]);
-    }
-    return start;
-  }
-
-  /**
-   * n frames from the last pose so far to @p to: the joints relative to the pelvis's vertical axis
-   * and the body's heading are interpolated, the pelvis moves and the heading turns between them.
-   */
-  void blend(const Skeleton& to, const Eigen::Vector3f& to_forward, int n)
-  {
-    const Skeleton from = out_.joints.back();
-    const float heading = headingOf(out_.forward.back());
-    const float turn = std::remainder(headingOf(to_forward) - heading, 2 * kPi);
-    const Eigen::Vector3f pa = flat(pelvisOf(from)), pb = flat(pelvisOf(to));
-    const Eigen::Matrix3f ra = rotZ(-heading), rb = rotZ(-(heading + turn));
-    Skeleton la, lb;
-    for (int k = 0; k < kJointCount; ++k)
-    {
-      la.joints[k] = ra * (from.joints[k] - pa);
-      lb.joints[k] = rb * (to.joints[k] - pb);
-    }
-    for (int i = 1; i <= n; ++i)
-    {
-      const float t = ease(float(i) / float(n + 1));
-      const float h = heading + t * turn;
-      const Eigen::Matrix3f rot = rotZ(h);
-      const Eigen::Vector3f pelvis = pa + t * (pb - pa);
-      Skeleton s;
-      for (int k = 0; k < kJointCount; ++k)
-        s.joints[k] = pelvis + rot * (la.joints[k] + t * (lb.joints[k] - la.joints[k]));
-      out_.joints.push_back(s);
-      out_.forward.push_back(Eigen::Vector3f(std::cos(h), std::sin(h), 0));
-    }
-  }
-
-  static Skeleton transformed(const Skeleton& s, const Eigen::Isometry3f& t)
-  {
-    Skeleton o;
-    for (int k = 0; k < kJointCount; ++k)
-      o.joints[k] = t * s.joints[k];
-    return o;
+      blendInto(out_, transformed(perf.joints[size_t(first)], root), root.linear() * perf.forward[size_t(first)],
+                frames(kBlendMin, kBlendMax));
+    return appendPlaced(out_, perf.joints, perf.forward, root, first, count);
   }
 
   const Actor& actor_;
@@ -349,8 +373,7 @@ std::vector<std::string> streamActions(const SampleSpec& spec)
       while (it == pending.end())
       {
         std::vector<std::string> bag = items;
-        for (size_t i = bag.size() - 1; i > 0; --i)
-          std::swap(bag[i], bag[size_t(rng.integer(0, int(i)))]);
+        shuffle(bag, rng);
         pending.insert(pending.end(), bag.begin(), bag.end());
         it = std::find_if(pending.begin(), pending.end(), allowed);
       }
@@ -382,6 +405,127 @@ StreamMotion composeStream(const Actor& actor, const std::vector<std::string>& a
   }
   c.idle(kLeadMin, kLeadMax);
   return c.take();
+}
+
+std::vector<SampleSpec> msrStreamSequences(const SampleSpec& spec)
+{
+  if (spec.dataset != "msr_stream" || !spec.segments_file.empty())
+    throw std::invalid_argument("'" + spec.name() + "' is not an MSR stream dealt from a folder");
+  static const std::regex re(R"(s\d\d)");
+  if (!std::regex_match(spec.person, re))
+    throw std::invalid_argument("invalid subject id '" + spec.person + "' for an MSR stream (expected s01..s99)");
+  if (spec.repetition < 1 || spec.repetition > kMaxCount)
+    throw std::invalid_argument("stream number must be 1..99, got " + std::to_string(spec.repetition));
+  if (spec.stream_actions < 1 || spec.stream_actions > kMaxCount)
+    throw std::invalid_argument("stream_actions must be 1..99, got " + std::to_string(spec.stream_actions));
+  if (!spec.action.empty() && spec.action != "stream")
+    throw std::invalid_argument("a stream's action must be 'stream', got '" + spec.action + "'");
+  const auto& names = msrActions();
+  for (const std::string& a : spec.stream_pool)
+    if (std::find(names.begin(), names.end(), a) == names.end())
+      throw std::invalid_argument("unknown MSR action '" + a + "' in the stream's pool");
+
+  // The subject's takes of each action (msrActions() order), then rounds of one take of every
+  // action: takes and rounds shuffled, a round's first action swapped away from the last one's.
+  std::map<int, std::vector<SampleSpec>> takes;
+  for (const SampleSpec& s : msrSamples(spec.skeleton_file, spec.seed))
+    if (s.person == spec.person &&
+        (spec.stream_pool.empty() ||
+         std::find(spec.stream_pool.begin(), spec.stream_pool.end(), s.action) != spec.stream_pool.end()))
+      takes[int(std::find(names.begin(), names.end(), s.action) - names.begin())].push_back(s);
+  Rng rng(hash64(spec.seed, hashString(spec.person), 0x35d1));
+  size_t rounds = 0;
+  for (auto& [action, list] : takes)
+  {
+    shuffle(list, rng);
+    rounds = std::max(rounds, list.size());
+  }
+  std::vector<SampleSpec> order;
+  for (size_t round = 0; round < rounds; ++round)
+  {
+    std::vector<const SampleSpec*> bag;
+    for (const auto& [action, list] : takes)
+      if (round < list.size())
+        bag.push_back(&list[round]);
+    shuffle(bag, rng);
+    if (!order.empty() && bag.size() > 1 && bag.front()->action == order.back().action)
+      std::swap(bag.front(), bag[size_t(rng.integer(1, int(bag.size()) - 1))]);
+    for (const SampleSpec* s : bag)
+      order.push_back(*s);
+  }
+  const size_t first = size_t(spec.repetition - 1) * size_t(spec.stream_actions);
+  const size_t end = first + size_t(spec.stream_actions);
+  if (end > order.size())
+    throw std::invalid_argument("subject " + spec.person + " has " + std::to_string(order.size()) +
+                                " sequences to deal; stream " + std::to_string(spec.repetition) + " of " +
+                                std::to_string(spec.stream_actions) + " would need " + std::to_string(end));
+  return std::vector<SampleSpec>(order.begin() + long(first), order.begin() + long(end));
+}
+
+std::vector<SampleSpec> msrStreamSamples(const std::string& folder, const std::vector<std::string>& subjects,
+                                         int streams, int actions, std::uint64_t seed,
+                                         const std::vector<std::string>& pool)
+{
+  if (streams < 1 || streams > kMaxCount)
+    throw std::invalid_argument("msrStreamSamples: streams must be 1..99, got " + std::to_string(streams));
+  if (actions < 1 || actions > kMaxCount)
+    throw std::invalid_argument("msrStreamSamples: actions must be 1..99, got " + std::to_string(actions));
+  std::vector<SampleSpec> out;
+  for (const std::string& subject : subjects)
+    for (int k = 1; k <= streams; ++k)
+    {
+      SampleSpec s;
+      s.dataset = "msr_stream";
+      s.person = subject;
+      s.action = "stream";
+      s.repetition = k;
+      s.seed = seed;
+      s.skeleton_file = folder;
+      s.stream_actions = actions;
+      s.stream_pool = pool;
+      out.push_back(s);
+    }
+  // The last stream of each subject checks the spec and that there are sequences enough.
+  for (size_t i = size_t(streams) - 1; i < out.size(); i += size_t(streams))
+    msrStreamSequences(out[i]);
+  return out;
+}
+
+StreamMotion composeMsrStream(const std::vector<MsrMotion>& sequences, const std::vector<std::string>& actions,
+                              std::uint64_t stream_seed, double fps)
+{
+  if (sequences.empty() || sequences.size() != actions.size())
+    throw std::invalid_argument("composeMsrStream: one action per sequence, at least one sequence");
+  Rng r(hash64(stream_seed, 0x35ee));
+  StreamMotion out;
+  const auto frames = [&](double lo, double hi) { return std::max(1, int(std::lround(r.uniform(lo, hi) * fps))); };
+  const auto hold = [&](int n) { holdBreathing(out, n, r.uniform(kBreathMin, kBreathMax), fps); };
+  // The subject stays where the first sequence starts.
+  const Eigen::Vector3f spot = flat(pelvisOf(sequences.front().joints.front()));
+  for (size_t k = 0; k < sequences.size(); ++k)
+  {
+    const MsrMotion& m = sequences[k];
+    Eigen::Isometry3f shift = Eigen::Isometry3f::Identity();
+    shift.translation() = spot - flat(pelvisOf(m.joints.front()));
+    if (k == 0)
+    {
+      appendPlaced(out, m.joints, m.forward, shift, 0, 1);
+      hold(frames(kLeadMin, kLeadMax) - 1);
+    }
+    else
+    {
+      // An idle period: the end pose held, then a transition into the next first pose.
+      const int gap = frames(kIdleMin, kIdleMax);
+      const int blend = std::min(gap, frames(kBlendMin, kBlendMax));
+      hold(gap - blend);
+      blendInto(out, transformed(m.joints.front(), shift), m.forward.front(), blend);
+    }
+    const int n = int(m.joints.size());
+    const int start = appendPlaced(out, m.joints, m.forward, shift, 0, n);
+    out.segments.push_back({ actions[k], start, start + n - 1 });
+  }
+  hold(frames(kLeadMin, kLeadMax));
+  return out;
 }
 
 }  // namespace synth

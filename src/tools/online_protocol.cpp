@@ -87,8 +87,98 @@ std::vector<StreamCase> streamCases(const std::vector<synth::SampleSpec>& specs,
 int personNumber(const std::string& person)
 {
   if (person.size() < 2 || person[0] != 'p')
-    throw UsageError("the online protocol trains on synthetic actors (--synth ias), not on '" + person + "'");
+    throw UsageError("--synth ias: the online protocol expected synthetic actors, not '" + person + "'");
   return std::atoi(person.c_str() + 1);
+}
+
+/** What a route of the protocol gives: the training samples and the streams to tune on and to test. */
+struct OnlineSet
+{
+  std::vector<SampleRef> training;   // the segmented samples the models learn from
+  std::vector<std::string> people;   // their people, sorted
+  std::set<std::string> tuners;      // training people whose streams choose the thresholds
+  std::vector<synth::SampleSpec> tuning, test;
+  std::vector<std::string> test_people;
+};
+
+/** The training people whose streams choose the thresholds (--tuning-people, default a third): the last ones. */
+std::set<std::string> tuningPeople(const Args& args, const std::vector<std::string>& people)
+{
+  if (people.size() < 2)
+    throw UsageError("--protocol online needs at least 2 training people (some choose the thresholds)");
+  const int n = static_cast<int>(args.integer("tuning-people", std::max<long>(1, static_cast<long>(people.size() + 2) / 3),
+                                              1, static_cast<long>(people.size()) - 1));
+  return std::set<std::string>(people.end() - n, people.end());
+}
+
+/**
+ * --synth ias: trains on every sample given; tunes on one stream of each tuning person; tests on
+ * the streams of --stream-people new actors after the training people.
+ */
+OnlineSet iasSet(const Args& args, const std::vector<SampleRef>& samples, int streams, int actions, std::uint64_t seed)
+{
+  OnlineSet out;
+  out.training = samples;
+  std::vector<std::string> persons;
+  int last = 0;
+  for (const auto& s : samples)
+  {
+    persons.push_back(s.person);
+    last = std::max(last, personNumber(s.person));
+  }
+  out.people = uniqueSorted(persons);
+  out.tuners = tuningPeople(args, out.people);
+  const int stream_people = static_cast<int>(args.integer("stream-people", 6, 1, 50));
+  if (last + stream_people > 99)
+    throw UsageError("--stream-people: new actors would go past p99");
+  for (const auto& p : out.tuners)
+    for (const auto& s : synth::streamSamples(personNumber(p), 1, 1, actions, seed))
+      out.tuning.push_back(s);
+  out.test = synth::streamSamples(last + 1, stream_people, streams, actions, seed);
+  for (const auto& s : out.test)
+    out.test_people.push_back(s.person);
+  out.test_people = uniqueSorted(out.test_people);
+  return out;
+}
+
+/**
+ * --synth msr: trains on the samples of the cross-subject training subjects (--train-persons); tunes
+ * on one MSR stream of each tuning subject; tests on --streams MSR streams of every other subject.
+ * The streams draw from the actions trained on (all 20, or those --actions keeps).
+ */
+OnlineSet msrSet(const Args& args, const std::vector<SampleRef>& samples, int streams, int actions, std::uint64_t seed)
+{
+  const std::vector<std::string> train = splitList(args.get("train-persons", "s01,s03,s05,s07,s09"));
+  OnlineSet out;
+  std::vector<std::string> persons, trained;
+  for (const auto& s : samples)
+  {
+    persons.push_back(s.person);
+    if (std::find(train.begin(), train.end(), s.person) != train.end())
+    {
+      out.training.push_back(s);
+      out.people.push_back(s.person);
+      trained.push_back(s.action);
+    }
+  }
+  out.people = uniqueSorted(out.people);
+  for (const auto& p : train)
+    if (!std::binary_search(out.people.begin(), out.people.end(), p))
+      throw UsageError("--train-persons: no MSR sample of '" + p + "'");
+  for (const auto& p : uniqueSorted(persons))
+    if (std::find(train.begin(), train.end(), p) == train.end())
+      out.test_people.push_back(p);
+  if (out.test_people.empty())
+    throw UsageError("--protocol online: every MSR subject is in --train-persons; none is left to test on");
+  out.tuners = tuningPeople(args, out.people);
+  std::vector<std::string> pool = uniqueSorted(trained);
+  if (pool.size() == synth::msrActions().size())
+    pool.clear();  // all of them
+  const std::string folder = args.get("msr-dir");
+  out.tuning = synth::msrStreamSamples(folder, std::vector<std::string>(out.tuners.begin(), out.tuners.end()), 1,
+                                       actions, seed, pool);
+  out.test = synth::msrStreamSamples(folder, out.test_people, streams, actions, seed, pool);
+  return out;
 }
 
 std::string scriptPath(const std::string& name)
@@ -224,49 +314,34 @@ const std::vector<std::string>& onlineOptions()
 
 const char* onlineUsage()
 {
-  return "online protocol (--protocol online, with --synth ias for the training samples):\n"
-         "  --stream-people N               new actors after the training people, one set of streams each (default 6)\n"
-         "  --streams N                     streams per new actor (default 1)\n"
-         "  --stream-actions N              actions per stream (default 8)\n"
+  return "online protocol (--protocol online, with --synth ias or --synth msr for the training samples):\n"
+         "  --stream-people N               ias: new actors after the training people, one set of streams each (default 6)\n"
+         "  --streams N                     streams per new actor (ias) or per test subject (msr) (default 1)\n"
+         "  --stream-actions N              actions (msr: MSR sequences) per stream (default 8)\n"
          "  --tuning-people N               training people whose streams choose the policy's thresholds, with a\n"
          "                                  model trained on the other training people (default: a third)\n"
+         "  --train-persons a,b,...         msr: the training subjects (default s01,s03,s05,s07,s09); the others are tested\n"
          "  --variants                      posture_flow and/or sumflow (default both)\n";
 }
 
-int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& training, const std::string& dir)
+int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, const std::string& dir)
 {
-  if (args.get("synth") != "ias")
-    throw UsageError("--protocol online trains on the synthetic actors: give --synth ias");
-  const int stream_people = static_cast<int>(args.integer("stream-people", 6, 1, 50));
+  const std::string dataset = args.get("synth");
+  if (dataset != "ias" && dataset != "msr")
+    throw UsageError("--protocol online renders its streams: give --synth ias or --synth msr");
   const int streams = static_cast<int>(args.integer("streams", 1, 1, 20));
   const int actions = static_cast<int>(args.integer("stream-actions", 8, 2, 40));
   const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1000000000));
   const int max_frames = static_cast<int>(args.integer("max-frames", 0, 0, 100000));
-  std::vector<std::string> persons;
-  int last = 0;
-  for (const auto& s : training)
-  {
-    persons.push_back(s.person);
-    last = std::max(last, personNumber(s.person));
-  }
-  const std::vector<std::string> people = uniqueSorted(persons);
-  if (people.size() < 2)
-    throw UsageError("--protocol online needs at least 2 training people (some choose the thresholds)");
-  const int tuning_people = static_cast<int>(
-      args.integer("tuning-people", std::max<long>(1, static_cast<long>(people.size() + 2) / 3), 1,
-                   static_cast<long>(people.size()) - 1));
-  if (last + stream_people > 99)
-    throw UsageError("--stream-people: new actors would go past p99");
-  const std::set<std::string> tuners(people.end() - tuning_people, people.end());
+  const OnlineSet set = dataset == "ias" ? iasSet(args, samples, streams, actions, seed)
+                                         : msrSet(args, samples, streams, actions, seed);
+  const std::vector<SampleRef>& training = set.training;
+  const std::set<std::string>& tuners = set.tuners;
 
-  // Streams: of the tuning people (their first stream), then of the new people.
-  std::vector<synth::SampleSpec> specs;
-  for (const auto& p : tuners)
-    for (auto s : synth::streamSamples(personNumber(p), 1, 1, actions, seed))
-      specs.push_back(s);
+  // Streams: of the tuning people, then of the people tested.
+  std::vector<synth::SampleSpec> specs = set.tuning;
   const std::size_t tuning_streams = specs.size();
-  for (auto s : synth::streamSamples(last + 1, stream_people, streams, actions, seed))
-    specs.push_back(s);
+  specs.insert(specs.end(), set.test.begin(), set.test.end());
   std::vector<SampleRef> stream_refs;
   for (auto& s : specs)
   {
@@ -286,10 +361,10 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& training, 
       throw UsageError("--protocol online runs the variants posture_flow and sumflow, not '" + v + "'");
 
   std::fprintf(stderr,
-               "evaluate: online protocol: %zu training samples of %zu people; thresholds chosen on %zu streams "
-               "of %d of them; tested on %zu streams of %d new people\n",
-               training.size(), people.size(), tuning_streams, tuning_people, specs.size() - tuning_streams,
-               stream_people);
+               "evaluate: online protocol (%s): %zu training samples of %zu people; thresholds chosen on %zu streams "
+               "of %zu of them; tested on %zu streams of %zu new people\n",
+               dataset.c_str(), training.size(), set.people.size(), tuning_streams, tuners.size(),
+               specs.size() - tuning_streams, set.test_people.size());
   const TrackerParams tracker;
   const int jobs = jobsOption(args);
   installInterruptHandler();
@@ -305,8 +380,10 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& training, 
       inner_rows.push_back(i);
   }
   json report = { { "protocol", "online" },
-                  { "training", { { "samples", training.size() }, { "people", people } } },
+                  { "dataset", dataset },
+                  { "training", { { "samples", training.size() }, { "people", set.people } } },
                   { "tuning_people", std::vector<std::string>(tuners.begin(), tuners.end()) },
+                  { "test_people", set.test_people },
                   { "iou_threshold", 0.5 } };
   json results = json::array();
   std::string timeline = "stream,kind,label,start,end,published\n";

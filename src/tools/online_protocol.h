@@ -1,5 +1,6 @@
 // evaluate --protocol online: the classifier's policy on continuous streams of people who are not
-// in training, with its thresholds chosen on streams of training people only.
+// in training (synthetic actors, or MSR Action3D subjects' real motion), with its thresholds chosen
+// on streams of training people only.
 #pragma once
 
 #include "sample_sources.h"
@@ -50,10 +51,13 @@ nlohmann::json policyJson(const PolicyParams& p);
 
 /**
  * Runs the online protocol and writes OUTPUT/online.json, OUTPUT/timeline.csv and (unless
- * --no-plots) OUTPUT/timeline_<variant>_<stream>.png. @p training are the segmented samples
- * (--synth ias); the streams are rendered for new people after the training people.
+ * --no-plots) OUTPUT/timeline_<variant>_<stream>.png. @p samples are the segmented samples.
+ * --synth ias: all of them train; the streams are of new actors after the training people.
+ * --synth msr: those of --train-persons train; the streams are MSR streams (msr_stream) of the
+ * other subjects. Either way the thresholds are chosen on streams of some training people
+ * (--tuning-people) with a model trained on the others.
  */
-int runOnlineProtocol(const class Args& args, const std::vector<SampleRef>& training, const std::string& dir);
+int runOnlineProtocol(const class Args& args, const std::vector<SampleRef>& samples, const std::string& dir);
 
 /** Usage text of the online protocol's options. */
 const char* onlineUsage();

@@ -374,11 +374,20 @@ SampleRef renderedSample(const synth::SampleSpec& spec)
   s.where = "rendered sample " + s.key;
   s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" + std::to_string(spec.seed) + ":" +
                   std::to_string(spec.max_frames);
-  if (spec.dataset == "stream")  // the streams' composition has its own revision; every track is kept
-  {
+  // The streams' composition has its own revision; every track is kept.
+  if (spec.dataset == "stream")
     s.fingerprint += ":stream-r1:" + std::to_string(spec.stream_actions) + ":all-tracks";
-    s.all_tracks = true;
+  else if (spec.dataset == "msr_stream")
+  {
+    s.fingerprint += ":msr-stream-r1:" + spec.skeleton_file + ":" + std::to_string(spec.stream_actions) + ":";
+    for (const std::string& a : spec.stream_pool)
+      s.fingerprint += a + ",";
+    if (!spec.segments_file.empty())  // a continuous file: its content and its truth
+      s.fingerprint += fileFingerprint(spec.skeleton_file) + ":" + spec.segments_file + ":" +
+                       fileFingerprint(spec.segments_file);
+    s.fingerprint += ":all-tracks";
   }
+  s.all_tracks = spec.dataset == "stream" || spec.dataset == "msr_stream";
   s.open = [spec]() -> std::unique_ptr<FrameSource> { return std::make_unique<SynthFrameSource>(spec); };
   return s;
 }

@@ -1,5 +1,5 @@
-// synth: renders the synthetic IAS-Lab-style dataset, its continuous streams of actions or the MSR
-// Action3D skeletons as Kinect bags (one per sample, plus index.csv), or preview images. See
+// synth: renders the synthetic IAS-Lab-style dataset, its continuous streams of actions, the MSR
+// Action3D skeletons or streams of them as Kinect bags (one per sample, plus index.csv), or preview images. See
 // docs/synth.md.
 #include "synth_bag.h"
 
@@ -36,16 +36,22 @@ const char* kUsage = R"(usage: synth [options]
 Renders one bag per sample (in the layout of a Kinect recorded with the ROS OpenNI driver) into
 OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
 
-  --dataset ias|stream|msr   ias: synthetic actors, 15 IAS-Lab actions (default); stream: the same
-                         actors performing actions in a row (pNN_stream_R.bag with /ground_truth/action,
-                         and pNN_stream_R_segments.csv); msr: MSR Action3D skeletons
-  --skeletons DIR        msr: folder of aAA_sSS_eEE_skeleton3D.txt files (required for msr)
+  --dataset ias|stream|msr|msr_stream   ias: synthetic actors, 15 IAS-Lab actions (default); stream:
+                         the same actors performing actions in a row (pNN_stream_R.bag with
+                         /ground_truth/action, and pNN_stream_R_segments.csv); msr: MSR Action3D
+                         skeletons; msr_stream: an MSR subject's sequences in a row (sNN_msr_stream_R.bag
+                         and sNN_msr_stream_R_segments.csv)
+  --skeletons DIR        msr, msr_stream: folder of aAA_sSS_eEE_skeleton3D.txt files (required)
+  --segments FILE        msr_stream: --skeletons is one continuous skeleton file in the MSR format and
+                         FILE its truth (CSV action,first_frame,last_frame in the file's 15 fps frames);
+                         the body is --person's (default s01); the bag is named after the file
   --all-msr              msr: also sequences not in files_used_in_cvpr12_paper.txt
   --people N             ias, stream: number of actors (default 12)
   --repetitions N        ias: repetitions of each action (default 3)
   --first-person K       stream: the actors are pK.. (default 1)
-  --streams S            stream: streams per actor (default 2)
-  --stream-actions A     stream: actions per stream (default 8; sit_down + get_up count as two)
+  --streams S            stream, msr_stream: streams per actor or subject (default 2)
+  --stream-actions A     stream, msr_stream: actions (MSR sequences) per stream (default 8; sit_down +
+                         get_up count as two)
   --seed N               dataset seed (default 1); same seed, byte-identical output
   --person ID, --action NAME, --repetition N   render only matching samples
   --every N              only every Nth selected sample (a spread-out subset, e.g. for timing)
@@ -157,7 +163,7 @@ private:
 
 int main(int argc, char** argv)
 {
-  std::string dataset = "ias", skeletons, out = "synth_data", montage;
+  std::string dataset = "ias", skeletons, segments, out = "synth_data", montage;
   std::string only_person, only_action;
   int only_rep = 0, every = 1, people = 12, repetitions = 3, limit = 0, max_frames = 0, jobs = 1;
   int first_person = 1, streams = 2, stream_actions = 8;
@@ -182,6 +188,8 @@ int main(int argc, char** argv)
       dataset = value();
     else if (a == "--skeletons")
       skeletons = value();
+    else if (a == "--segments")
+      segments = value();
     else if (a == "--all-msr")
       all_msr = true;
     else if (a == "--people")
@@ -279,8 +287,39 @@ int main(int argc, char** argv)
         fail("--dataset msr needs --skeletons DIR (the MSR Action3D skeleton folder)");
       specs = msrSamples(skeletons, seed, !all_msr);
     }
+    else if (dataset == "msr_stream")
+    {
+      if (skeletons.empty())
+        fail("--dataset msr_stream needs --skeletons DIR (or a skeleton file with --segments FILE)");
+      if (!segments.empty())
+      {
+        SampleSpec s;
+        s.dataset = "msr_stream";
+        s.person = only_person.empty() ? "s01" : only_person;  // the body
+        s.action = "stream";
+        s.seed = seed;
+        s.skeleton_file = skeletons;
+        s.segments_file = segments;
+        specs = { s };
+      }
+      else
+      {
+        std::vector<std::string> subjects;
+        if (!only_person.empty())
+          subjects = { only_person };
+        else
+          for (const SampleSpec& m : msrSamples(skeletons, seed))
+            if (subjects.empty() || subjects.back() != m.person)
+              subjects.push_back(m.person);
+        std::sort(subjects.begin(), subjects.end());
+        subjects.erase(std::unique(subjects.begin(), subjects.end()), subjects.end());
+        specs = msrStreamSamples(skeletons, subjects, streams, stream_actions, seed);
+      }
+    }
     else
-      fail("--dataset must be ias, stream or msr, got '" + dataset + "'");
+      fail("--dataset must be ias, stream, msr or msr_stream, got '" + dataset + "'");
+    if (!segments.empty() && dataset != "msr_stream")
+      fail("--segments is for --dataset msr_stream (a continuous skeleton file)");
   }
   catch (const std::exception& e)
   {
@@ -361,7 +400,7 @@ int main(int argc, char** argv)
             return;  // interrupted; the temporary file is gone
           // A stream's ground truth beside its bag (after it: a bag without one is completed by
           // --skip-existing).
-          if (spec.dataset == "stream")
+          if (spec.dataset == "stream" || spec.dataset == "msr_stream")
             writeSegmentsCsv(sample, (dir / (spec.name() + "_segments.csv")).string());
           frames_of[k] = sample.frames();
         }

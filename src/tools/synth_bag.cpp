@@ -109,7 +109,7 @@ std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& o, 
   t.emplace_back(o.tf_topic, "tf2_msgs/TFMessage");
   if (o.points)
     t.emplace_back(o.points_topic, "sensor_msgs/PointCloud2");
-  if (dataset == "stream")
+  if (dataset == "stream" || dataset == "msr_stream")
     t.emplace_back(o.action_topic, "std_msgs/String");
   return t;
 }
@@ -130,7 +130,7 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
     throw std::runtime_error("jpeg quality must be 1..100 and png level 0..9");
 
   const std::string tmp = path + ".tmp";
-  const bool stream = sample.spec().dataset == "stream";
+  const bool stream = sample.spec().dataset == "stream" || sample.spec().dataset == "msr_stream";
   const CameraModel& cam = sample.camera();
   const int w = cam.width, h = cam.height;
   try

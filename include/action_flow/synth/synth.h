@@ -1,7 +1,7 @@
 /**
  * @file synth.h
  * @brief Synthetic actors performing the IAS-Lab Action Dataset's 15 actions, continuous streams of
- *        those actions, and the MSR Action3D skeletons, rendered by the virtual Kinect (scene.h) one
+ *        those actions, and the MSR Action3D skeletons (alone or in a row), rendered by the virtual Kinect (scene.h) one
  *        sample at a time, in process. ROS-free. This is the API the training, evaluation,
  *        benchmark and tracker tests use.
  *
@@ -42,22 +42,39 @@ const std::vector<std::string>& iasLabActions();
  * dataset "stream": one actor of the "ias" set (person "pNN") performing stream_actions actions in
  * a row (about a minute for 8), with transitions and idle periods between them; repetition is the
  * stream's number and action is "stream".
+ *
+ * dataset "msr_stream": real motion in a row. Either an MSR Action3D subject ("sNN") performing
+ * stream_actions of their own sequences (msrStreamSequences), skeleton_file being the MSR folder,
+ * with idle periods between them; repetition is the stream's number. Or, with segments_file, one
+ * continuous skeleton file in the MSR format (skeleton_file) with its truth. action is "stream".
  */
 struct SampleSpec
 {
-  std::string dataset = "ias";  ///< "ias" (synthetic actors), "stream" (their streams) or "msr" (MSR Action3D skeletons)
-  std::string person;           ///< "p01".."pNN" (ias, stream) or "s01".."s10" (msr)
+  /** "ias" (synthetic actors), "stream" (their streams), "msr" (MSR Action3D skeletons) or
+   *  "msr_stream" (MSR motion in a row). */
+  std::string dataset = "ias";
+  std::string person;           ///< "p01".."pNN" (ias, stream) or "s01".."s10" (msr, msr_stream)
   std::string action;           ///< an iasLabActions() name, an msrActions() name, or "stream"
-  int repetition = 1;           ///< 1-based; the take for msr, the stream's number for stream
+  int repetition = 1;           ///< 1-based; the take for msr, the stream's number for the streams
   std::uint64_t seed = 1;       ///< dataset seed: same seed, same actors and same frames
-  std::string skeleton_file;    ///< msr only: the skeleton file
+  /** msr: the skeleton file; msr_stream: the MSR folder, or (with segments_file) one skeleton file. */
+  std::string skeleton_file;
+  /**
+   * msr_stream with one continuous skeleton file: its truth, a CSV of rows
+   * "action,first_frame,last_frame" (an optional header line of that text first) in the file's own
+   * 15 fps frames, inclusive, ordered and not overlapping.
+   */
+  std::string segments_file;
   /** Render only the first max_frames frames (0 = all); for tests and previews. */
   int max_frames = 0;
-  /** stream only: the number of actions performed (1..99; sit_down + get_up count as two). */
+  /** stream, msr_stream: the number of actions performed (1..99; sit_down + get_up count as two). */
   int stream_actions = 8;
+  /** msr_stream from the folder: the msrActions() its sequences are drawn from (empty: all 20). */
+  std::vector<std::string> stream_pool;
 
   /**
-   * @brief "p01_wave_1" / "a01_s01_e01" / "p01_stream_1": unique within a dataset, used as the
+   * @brief "p01_wave_1" / "a01_s01_e01" / "p01_stream_1" / "s01_msr_stream_1" (a continuous file:
+   *        its file name without extension, file-name safe): unique within a dataset, used as the
    *        bag's base name.
    */
   std::string name() const;
@@ -97,6 +114,31 @@ std::vector<SampleSpec> streamSamples(int first_person, int people, int streams,
  */
 std::vector<std::string> streamActions(const SampleSpec& spec);
 
+/**
+ * @brief The MSR streams: subjects ("s01".."s10") x @p streams streams of @p actions sequences each,
+ *        ordered subject then stream; skeleton_file = @p folder. @p pool: the msrActions() the
+ *        sequences are drawn from (empty: all 20).
+ * @throws std::invalid_argument if streams or actions is not in 1..99, a subject id is malformed, a
+ *         pool name is unknown, or a subject has fewer than streams x actions sequences;
+ *         std::runtime_error if the folder cannot be read (msrSamples)
+ */
+std::vector<SampleSpec> msrStreamSamples(const std::string& folder, const std::vector<std::string>& subjects,
+                                         int streams, int actions, std::uint64_t seed = 1,
+                                         const std::vector<std::string>& pool = {});
+
+/**
+ * @brief The MSR sequences ("msr" samples) msr_stream @p spec performs, in order; cheap, no motion.
+ *
+ * The subject's sequences of the cvpr12 list (msrSamples), restricted to the spec's stream_pool,
+ * are dealt from one sequence per person and seed that the subject's streams take in turn (stream 1
+ * the first stream_actions, stream 2 the next, ...): rounds of one take of every action (takes and
+ * actions shuffled), so each sequence is used at most once and the actions spread evenly over the
+ * streams; no action follows itself where a round allows it.
+ * @throws std::invalid_argument if spec is not an msr_stream from a folder (dataset, person, number,
+ *         actions, pool), or the subject has too few sequences for this stream
+ */
+std::vector<SampleSpec> msrStreamSequences(const SampleSpec& spec);
+
 /** @brief One performed action of a sample: frame indices, inclusive. */
 struct StreamSegment
 {
@@ -132,14 +174,15 @@ class SampleRenderer
 {
 public:
   /**
-   * @throws std::invalid_argument on an unknown dataset, action or person id;
-   *         std::runtime_error from the MSR parser, or if an MSR file has no tracked frame
+   * @throws std::invalid_argument on an unknown dataset, action or person id, or an invalid stream;
+   *         std::runtime_error from the MSR parser, if an MSR file has no tracked frame, or on a
+   *         malformed segments file ("<path>:<line>: <what>")
    */
   explicit SampleRenderer(const SampleSpec& spec, const CameraModel& camera = CameraModel());
   ~SampleRenderer();
 
   const SampleSpec& spec() const;
-  /** @brief The action label (the spec's action; "stream" for a stream). */
+  /** @brief The action label (the spec's action; "stream" for the streams). */
   const std::string& label() const;
   int frames() const;
   /** @brief Stamp of frame @p i in seconds: a fixed start (2013-01-01 UTC) + i / fps. */
@@ -150,8 +193,9 @@ public:
    *
    * stream: one segment per performed action, its core: the frames between the performance's own
    * idle lead-in and lead-out (idle periods and transitions belong to no segment); segments past
-   * max_frames are dropped, the one it cuts is clipped. ias and msr: one segment, the whole sample,
-   * with the sample's action.
+   * max_frames are dropped, the one it cuts is clipped. msr_stream: one segment per MSR sequence,
+   * the whole sequence (they are pre-segmented), or the segments file's rows (15 fps frame f is
+   * frame 2f here). ias and msr: one segment, the whole sample, with the sample's action.
    */
   const std::vector<StreamSegment>& segments() const;
   /**
