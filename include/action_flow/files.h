@@ -1,6 +1,7 @@
 /**
  * @file files.h
- * @brief What the tools and stages check before opening a file that they read whole.
+ * @brief What the tools and stages check before opening a file that they read whole, and how
+ *        they write one.
  */
 #pragma once
 
@@ -14,4 +15,11 @@ namespace action_flow
  *        reader (and, for a model, the whole nodelet manager's load service) until someone writes.
  */
 std::string whyNotARegularFile(const std::string& path);
+
+/**
+ * @brief Writes @p text to @p path whole or not at all: to "<path>.tmp", then renamed into place,
+ *        so an interrupted run never leaves a half-written file.
+ * @throws std::runtime_error naming the file if it cannot be written or renamed
+ */
+void writeTextAtomically(const std::string& path, const std::string& text);
 }  // namespace action_flow

@@ -7,6 +7,7 @@
 #include "online_protocol.h"
 #include "sample_sources.h"
 
+#include <action_flow/files.h>
 #include <action_flow/synth/skeleton.h>
 
 #include <ros/package.h>
@@ -135,19 +136,6 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
     fold_accuracy.push_back(mine.accuracy());
   }
   return all;
-}
-
-void writeAtomically(const std::string& path, const std::string& text)
-{
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::trunc);
-    f << text;
-    if (!f.flush())
-      throw std::runtime_error(path + ": cannot write");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error(path + ": cannot rename the temporary file into place");
 }
 
 json confusionJson(const Confusion& c)
@@ -354,7 +342,7 @@ int main(int argc, char** argv)
                           { "pca_components", nullptr } });
       if (v.params.use_pca && !fold_pcas.empty())
         results.back()["pca_components"] = fold_pcas.front().outputSize();
-      writeAtomically(dir + "/confusion_" + v.name + ".csv", confusionCsv(c));
+      writeTextAtomically(dir + "/confusion_" + v.name + ".csv", confusionCsv(c));
       std::printf("%-58s accuracy %5.1f%%  (mean over folds %5.1f%%)\n", v.title.c_str(), 100 * c.accuracy(),
                   100 * mean_fold);
     }
@@ -380,7 +368,7 @@ int main(int argc, char** argv)
                          { "classification_s", std::chrono::duration<double>(t2 - t1).count() },
                          { "total_s", std::chrono::duration<double>(t2 - t0).count() },
                          { "jobs", jobs } };
-    writeAtomically(dir + "/report.json", report.dump(2) + "\n");
+    writeTextAtomically(dir + "/report.json", report.dump(2) + "\n");
     std::printf("evaluate: report in %s/report.json (%.0f s)\n", dir.c_str(),
                 std::chrono::duration<double>(t2 - t0).count());
     if (!args.has("no-plots"))

@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "extraction.h"
 
+#include <action_flow/files.h>
 #include <action_flow/synth/synth.h>
 
 #include <ros/package.h>
@@ -24,19 +25,6 @@ namespace tools
 namespace
 {
 using json = nlohmann::json;
-
-void writeAtomically(const std::string& path, const std::string& text)
-{
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::trunc);
-    f << text;
-    if (!f.flush())
-      throw std::runtime_error(path + ": cannot write");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error(path + ": cannot rename the temporary file into place");
-}
 
 json scoreJson(const StreamScore& s)
 {
@@ -432,8 +420,8 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, c
   }
   report["variants"] = results;
   ::mkdir(dir.c_str(), 0755);
-  writeAtomically(dir + "/online.json", report.dump(2) + "\n");
-  writeAtomically(dir + "/timeline.csv", timeline);
+  writeTextAtomically(dir + "/online.json", report.dump(2) + "\n");
+  writeTextAtomically(dir + "/timeline.csv", timeline);
   std::printf("evaluate: report in %s/online.json\n", dir.c_str());
   if (!args.has("no-plots"))
   {
