@@ -79,6 +79,9 @@ public:
     Eigen::MatrixXf m(rows, cols);
     need(sizeof(float) * m.size());
     std::memcpy(m.data(), buf_.data() + pos_, sizeof(float) * m.size());
+    if (!m.allFinite())
+      fail("a matrix of " + std::to_string(rows) + "x" + std::to_string(cols) + " at offset " + std::to_string(pos_) +
+           " holds NaN or infinite values");
     pos_ += sizeof(float) * m.size();
     return m;
   }

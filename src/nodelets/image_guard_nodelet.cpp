@@ -62,16 +62,25 @@ class ImageGuardNodelet : public nodelet::Nodelet
 
   void onInfo(const sensor_msgs::CameraInfo::ConstPtr& m)
   {
-    const std::string error = checkCameraInfo(*m);
+    std::string error = checkCameraInfo(*m);
+    {
+      // The image size is set once, by the first good camera_info: were it to change, a colour
+      // image of the old size and a depth image of the new one with the same stamp could both pass
+      // and depth_image_proc would pair them (it throws on a depth image taller than the colour).
+      std::lock_guard<std::mutex> lock(size_mutex_);
+      if (error.empty() && width_ != 0 && (m->width != width_ || m->height != height_))
+        error = "is for " + std::to_string(m->width) + "x" + std::to_string(m->height) + " images, the camera's are " +
+                std::to_string(width_) + "x" + std::to_string(height_) + " (a size change needs a restart)";
+      if (error.empty())
+      {
+        width_ = m->width;
+        height_ = m->height;
+      }
+    }
     if (!error.empty())
     {
       NODELET_ERROR_THROTTLE(5, "dropped a camera_info on %s: it %s", info_topic_.c_str(), error.c_str());
       return;
-    }
-    {
-      std::lock_guard<std::mutex> lock(size_mutex_);
-      width_ = m->width;
-      height_ = m->height;
     }
     info_pub_.publish(m);
   }

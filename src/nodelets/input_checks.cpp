@@ -2,6 +2,7 @@
 
 #include <pcl_conversions/pcl_conversions.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -12,6 +13,23 @@ namespace
 std::string number(std::uint64_t v)
 {
   return std::to_string(v);
+}
+
+// Bytes of one value of a PointField datatype; 0 for an unknown one.
+std::uint64_t datatypeSize(std::uint8_t datatype)
+{
+  switch (datatype)
+  {
+    case sensor_msgs::PointField::INT8:
+    case sensor_msgs::PointField::UINT8: return 1;
+    case sensor_msgs::PointField::INT16:
+    case sensor_msgs::PointField::UINT16: return 2;
+    case sensor_msgs::PointField::INT32:
+    case sensor_msgs::PointField::UINT32:
+    case sensor_msgs::PointField::FLOAT32: return 4;
+    case sensor_msgs::PointField::FLOAT64: return 8;
+    default: return 0;
+  }
 }
 
 // Whether a field of @p m named @p name lies inside a point as one FLOAT32 (or, for colour, any
@@ -48,6 +66,17 @@ std::string checkPointCloud2(const sensor_msgs::PointCloud2& m)
   const std::uint64_t bytes = static_cast<std::uint64_t>(m.row_step) * m.height;
   if (m.data.size() != bytes)
     return "carries " + number(m.data.size()) + " bytes of data, its header says " + number(bytes);
+  // Every field inside the point, not only the ones looked for: a converter may take another field
+  // of the same name (pcl::fromROSMsg takes the first of the right type).
+  for (const auto& f : m.fields)
+  {
+    const std::uint64_t size = datatypeSize(f.datatype);
+    if (size == 0)
+      return "field '" + f.name + "' has the unknown datatype " + number(f.datatype);
+    if (static_cast<std::uint64_t>(f.offset) + size * std::max<std::uint64_t>(f.count, 1) > m.point_step)
+      return "field '" + f.name + "' at offset " + number(f.offset) + " (" + number(size * std::max<std::uint64_t>(f.count, 1)) +
+             " bytes) lies outside the point_step of " + number(m.point_step);
+  }
   for (const char* axis : { "x", "y", "z" })
   {
     const std::string e = checkField(m, axis, true, false);

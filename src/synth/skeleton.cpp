@@ -78,6 +78,8 @@ MsrSkeletonFile parseMsrSkeletonFile(const std::string& path)
     if (v[3] < 0.0 || v[3] > 1.0)
       fail("confidence " + std::to_string(v[3]) + " outside [0,1]");
     frame[joint] = Eigen::Vector3f(float(v[0]), float(v[1]), float(v[2]));
+    if (!frame[joint].allFinite())  // finite as a double, but not as the float it is kept in (1e300)
+      fail("value out of range in '" + line + "'");
     conf[joint] = float(v[3]);
     all_zero = all_zero && v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
     if (++joint == 20)
