@@ -46,8 +46,6 @@ if(TARGET action_flow_ros)
     LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
   if(CATKIN_ENABLE_TESTING)
-    find_package(rostest REQUIRED)
-    find_package(roslaunch REQUIRED)
     roslaunch_add_file_check(launch/bench_pipeline.launch bags:=a.bag model:=a.model output:=out)
 
     # A short closed-loop run of the same launch on one small synthetic bag (40 frames, looped).

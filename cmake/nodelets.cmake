@@ -1,8 +1,7 @@
 # ROS wrappers: the pipeline's nodelets, their test aids, launch checks and rostests.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OPENNI2 REQUIRED libopenni2)
-# The same components as synth.cmake: OpenCV_LIBRARIES is read again by the files included after this one.
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
+# OpenCV (core imgproc imgcodecs) is found by the top CMakeLists.
 
 # Stage types (zero-copy message traits) and parameter reading, shared by every nodelet.
 add_library(action_flow_ros src/nodelets/stage_types.cpp src/nodelets/params.cpp src/nodelets/input_checks.cpp)
@@ -31,22 +30,20 @@ if(TARGET action_flow_tracker)
   target_link_libraries(action_flow_tracker_nodelet action_flow_tracker)
 endif()
 
-# Test aids (exported too so that rostests can load them by name): a scene / person-cloud
-# publisher and the zero-copy probe.
+# Test aids (in the devel space's nodelets.xml so that rostests can load them by name; not
+# installed, and left out of the installed nodelets.xml, cmake/install.cmake): a scene /
+# person-cloud publisher and the zero-copy probe.
 add_library(action_flow_test_nodelets test/ros/test_scene.cpp test/ros/test_scene_publisher.cpp test/ros/zero_copy_probe.cpp)
 target_link_libraries(action_flow_test_nodelets action_flow_ros ${catkin_LIBRARIES})
 
 install(TARGETS action_flow_ros action_flow_nodelets action_flow_driver action_flow_tracker_nodelet
-        action_flow_test_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
-install(FILES nodelets.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 install(DIRECTORY launch config rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  find_package(rostest REQUIRED)
-  find_package(roslaunch REQUIRED)
+  # rostest and roslaunch are found by the top CMakeLists.
   # Every launch file parses, its args resolve, and every package it names exists.
   roslaunch_add_file_check(launch/pipeline.launch)
   roslaunch_add_file_check(launch/kinect.launch)

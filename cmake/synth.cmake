@@ -1,6 +1,6 @@
 # The virtual Kinect and synthetic actors (issue 3): ROS-free rendering library, the `synth`
 # executable (bags, previews) and their tests.
-find_package(OpenCV REQUIRED COMPONENTS core imgproc imgcodecs)
+# OpenCV (core imgproc imgcodecs) is found by the top CMakeLists.
 
 add_library(action_flow_synth
   src/synth/skeleton.cpp

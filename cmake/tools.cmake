@@ -25,6 +25,12 @@ foreach(tool train evaluate)
   target_compile_definitions(${tool} PRIVATE ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 endforeach()
 
+# The tools and the libraries they (and bench, cmake/bench.cmake) load at run time.
+install(TARGETS action_flow_eval action_flow_tool_support train evaluate
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_tools test/eval/test_tools.cpp TIMEOUT 600)
   target_link_libraries(test_tools action_flow_core gtest_main)

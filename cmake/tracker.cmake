@@ -1,8 +1,9 @@
 # People tracker core (ROS-free): its own library on top of action_flow_core and PCL's people module.
-# PCL's people component is looked up on its own; PCL_LIBRARIES is restored afterwards so that
-# the parts included after this one see what the top CMakeLists found.
+# PCL's people component (it brings VTK through PCL's visualization) is looked up here, for the
+# tracker only, with the top CMakeLists' components again so that none is dropped; PCL_LIBRARIES is
+# restored afterwards so that the parts included after this one see what the top CMakeLists found.
 set(_action_flow_pcl_libraries ${PCL_LIBRARIES})
-find_package(PCL REQUIRED COMPONENTS people)
+find_package(PCL REQUIRED COMPONENTS common kdtree octree search filters segmentation sample_consensus io people)
 set(ACTION_FLOW_PCL_PEOPLE_LIBRARIES ${PCL_LIBRARIES})
 set(PCL_LIBRARIES ${_action_flow_pcl_libraries})
 
@@ -23,16 +24,23 @@ set(ACTION_FLOW_HOG_SOURCE_FILE ${PROJECT_SOURCE_DIR}/../shared/data/pcl_people/
 target_compile_definitions(action_flow_tracker PRIVATE
   ACTION_FLOW_HOG_INSTALLED="${CMAKE_INSTALL_PREFIX}/${CATKIN_PACKAGE_SHARE_DESTINATION}/data/${ACTION_FLOW_HOG_FILE_NAME}"
   ACTION_FLOW_HOG_SOURCE="${ACTION_FLOW_HOG_SOURCE_FILE}")
-if(EXISTS ${ACTION_FLOW_HOG_SOURCE_FILE})
-  install(FILES ${ACTION_FLOW_HOG_SOURCE_FILE} DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/data)
+# The file lies outside the package: its copy in the build folder (made when CMake generates) is
+# what gets installed.
+if(EXISTS "${ACTION_FLOW_HOG_SOURCE_FILE}")
+  file(GENERATE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/data/${ACTION_FLOW_HOG_FILE_NAME} INPUT ${ACTION_FLOW_HOG_SOURCE_FILE})
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/data/${ACTION_FLOW_HOG_FILE_NAME}
+          DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/data)
 endif()
 
 # Benchmark: per-frame time on the real 640x480 clouds (reads bags, so it links catkin's rosbag).
-add_executable(tracker_benchmark test/tracker/tracker_benchmark.cpp)
-target_compile_definitions(tracker_benchmark PRIVATE ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
-target_link_libraries(tracker_benchmark action_flow_tracker ${catkin_LIBRARIES})
+# A development aid of the test tree that reads the source tree's ../shared/data: built (as
+# devel/lib/action_flow/tracker_benchmark), not installed; its target is named as a test's.
+add_executable(test_tracker_benchmark test/tracker/tracker_benchmark.cpp)
+set_target_properties(test_tracker_benchmark PROPERTIES OUTPUT_NAME tracker_benchmark)
+target_compile_definitions(test_tracker_benchmark PRIVATE ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
+target_link_libraries(test_tracker_benchmark action_flow_tracker ${catkin_LIBRARIES})
 
-install(TARGETS action_flow_tracker tracker_benchmark
+install(TARGETS action_flow_tracker
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
