@@ -74,7 +74,10 @@ public:
   {
     const auto rows = get<std::uint64_t>();
     const auto cols = get<std::uint64_t>();
-    if (cols != 0 && rows > (buf_.size() - pos_) / sizeof(float) / cols)
+    // Each side bounded on its own too: an empty matrix of 0 x 2^60 fits in no bytes, yet walking it
+    // (the finiteness check below) would never end.
+    constexpr std::uint64_t kMaxSide = 1u << 26;
+    if (rows > kMaxSide || cols > kMaxSide || (cols != 0 && rows > (buf_.size() - pos_) / sizeof(float) / cols))
       fail("a matrix of " + std::to_string(rows) + "x" + std::to_string(cols) + " does not fit in the file");
     Eigen::MatrixXf m(rows, cols);
     need(sizeof(float) * m.size());
