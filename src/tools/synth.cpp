@@ -19,6 +19,7 @@
 #include <iostream>
 #include <mutex>
 #include <sstream>
+#include <set>
 #include <string>
 #include <thread>
 #include <unistd.h>
@@ -423,14 +424,35 @@ int main(int argc, char** argv)
     t.join();
   progress.finish();
 
-  // The index lists every complete sample; written under a temporary name, then renamed.
+  // The index lists every complete sample: this run's, and those of earlier runs into the same
+  // folder whose bags are still there (a second `--action` run adds to it, it does not replace it).
+  // Written under a temporary name, then renamed.
   size_t complete = 0;
   if (!preview)
   {
     const fs::path index = dir / "index.csv", tmp = dir / "index.csv.tmp";
+    static const std::string kHeader = "path,person,action,repetition,frames";
+    std::set<std::string> written;
+    for (size_t k = 0; k < selected.size(); ++k)
+      if (frames_of[k] >= 0)
+        written.insert(selected[k].name() + ".bag");
+    std::vector<std::string> kept;
+    {
+      std::ifstream old(index);
+      std::string line;
+      if (std::getline(old, line) && line == kHeader)
+        while (std::getline(old, line))
+        {
+          const std::string bag = line.substr(0, line.find(','));
+          if (!bag.empty() && !written.count(bag) && fs::is_regular_file(dir / bag, ec))
+            kept.push_back(line);
+        }
+    }
     {
       std::ofstream csv(tmp);
-      csv << "path,person,action,repetition,frames\n";
+      csv << kHeader << "\n";
+      for (const std::string& line : kept)
+        csv << line << "\n";
       for (size_t k = 0; k < selected.size(); ++k)
         if (frames_of[k] >= 0)
         {

@@ -127,6 +127,41 @@ TEST(Tools, OutOfRangeOptionsAreUsageErrorsNamingTheOption)
   EXPECT_EQ(WEXITSTATUS(run(kBin + "/train --output /nonexistent --synth ias --jobs 0").status), 2);
 }
 
+TEST(Tools, SynthAddsToAnExistingIndex)
+{
+  // Two runs into one folder: the second adds its samples, the first run's rows stay; a row whose
+  // bag is gone is dropped, and a sample rendered again is listed once.
+  const std::string d = tempDir("index_append");
+  const auto render = [&](const std::string& action) {
+    const Result r = run(kBin + "/synth --out '" + d + "' --people 1 --repetitions 1 --action " + action +
+                         " --frames 2 --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+  };
+  const auto rows = [&] {
+    std::ifstream in(d + "/ias/index.csv");
+    std::vector<std::string> out;
+    std::string line;
+    while (std::getline(in, line))
+      out.push_back(line);
+    return out;
+  };
+  render("wave");
+  render("kick");
+  std::vector<std::string> r = rows();
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_EQ(r[0], "path,person,action,repetition,frames");
+  EXPECT_EQ(r[1], "p01_wave_1.bag,p01,wave,1,2");
+  EXPECT_EQ(r[2], "p01_kick_1.bag,p01,kick,1,2");
+  render("kick");
+  EXPECT_EQ(rows().size(), 3u) << "a sample rendered again is listed twice";
+  std::remove((d + "/ias/p01_wave_1.bag").c_str());
+  render("point");
+  r = rows();
+  ASSERT_EQ(r.size(), 3u);
+  EXPECT_EQ(r[1], "p01_kick_1.bag,p01,kick,1,2");
+  EXPECT_EQ(r[2], "p01_point_1.bag,p01,point,1,2");
+}
+
 TEST(Tools, SampleWithoutATrackedPersonIsRefused)
 {
   // One frame: nobody can be tracked over it, so there is no frame descriptor to learn from.
