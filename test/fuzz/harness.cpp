@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <poll.h>
@@ -82,7 +83,8 @@ std::vector<std::uint64_t> seeds(const std::string& kind, int ci)
 std::string outDir()
 {
   const char* v = std::getenv("ACTION_FLOW_FUZZ_OUT");
-  const std::string d = v && *v ? v : "/tmp/action_flow_fuzz";
+  // Default: action_flow_fuzz in the system's temporary folder ($TMPDIR if set).
+  const std::string d = v && *v ? std::string(v) : (std::filesystem::temp_directory_path() / "action_flow_fuzz").string();
   ::mkdir(d.c_str(), 0755);
   return d;
 }

@@ -9,7 +9,7 @@
  *   ACTION_FLOW_FUZZ_INPUTS=N   long mode: about N inputs over the whole suite (CI: about 2,000)
  *   ACTION_FLOW_FUZZ_SEED=S     base seed (default 1); every input's own seed is printed on failure
  *   ACTION_FLOW_FUZZ_REPLAY=S   run only the input of seed S (with --gtest_filter for its kind)
- *   ACTION_FLOW_FUZZ_OUT=DIR    where reproducers are written (default /tmp/action_flow_fuzz)
+ *   ACTION_FLOW_FUZZ_OUT=DIR    where reproducers are written (default action_flow_fuzz in $TMPDIR, else the system's temporary folder)
  */
 #pragma once
 
