@@ -157,6 +157,12 @@ private:
   };
 
   std::vector<LabelEvent> addOnline(std::uint32_t id, Track& t);
+  std::vector<LabelEvent> addWindowed(std::uint32_t id, Track& t);   // the sliding window
+  std::vector<LabelEvent> addSegmented(std::uint32_t id, Track& t);  // the motion cut
+  /** Drops frames older than @p keep seconds before the newest (keeps at least one). */
+  static void trim(Track& t, double keep);
+  /** The first (or last) frame of the smoothing span that moved: where the motion began (or ended). */
+  std::optional<double> firstOrLastMoving(const Track& t, bool first) const;
   std::optional<LabelEvent> closeSegment(std::uint32_t id, Track& t);
   std::optional<Classification> classify(const Track& t, double from, double to, std::size_t* count) const;
   bool stable(Track& t, const Classification& c) const;

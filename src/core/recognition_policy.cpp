@@ -16,6 +16,27 @@ void require(bool ok, const char* what)
   if (!ok)
     throw std::invalid_argument(std::string("policy parameter out of range: ") + what);
 }
+LabelEvent event(LabelEvent::Kind kind, std::uint32_t track, const Classification& c, double start, double end,
+                 std::size_t frames)
+{
+  LabelEvent e;
+  e.kind = kind;
+  e.track = track;
+  e.result = c;
+  e.start = start;
+  e.end = end;
+  e.frames = frames;
+  return e;
+}
+
+// The end of a label published earlier: the same label, its final span.
+LabelEvent closing(std::uint32_t track, const std::string& label, double start, double end)
+{
+  LabelEvent e = event(LabelEvent::Kind::Ended, track, Classification(), start, end, 0);
+  e.result.label = label;
+  e.closes_published = true;
+  return e;
+}
 }  // namespace
 
 void PolicyParams::validate() const
@@ -87,88 +108,91 @@ double RecognitionPolicy::smoothedMotion(const Track& t) const
 
 std::vector<LabelEvent> RecognitionPolicy::addOnline(std::uint32_t id, Track& t)
 {
+  return use_motion_ ? addSegmented(id, t) : addWindowed(id, t);
+}
+
+void RecognitionPolicy::trim(Track& t, double keep)
+{
   const double now = t.frames.back().stamp;
-  const auto trim = [&](double keep) {
-    while (t.frames.size() > 1 && t.frames.front().stamp < now - keep)
-      t.frames.pop_front();
-  };
-  auto event = [&](LabelEvent::Kind kind, const Classification& c, double start, double end, std::size_t n) {
-    LabelEvent e;
-    e.kind = kind;
-    e.track = id;
-    e.result = c;
-    e.start = start;
-    e.end = end;
-    e.frames = n;
-    return e;
-  };
+  while (t.frames.size() > 1 && t.frames.front().stamp < now - keep)
+    t.frames.pop_front();
+}
 
-  if (!use_motion_)  // sliding window
+std::vector<LabelEvent> RecognitionPolicy::addWindowed(std::uint32_t id, Track& t)
+{
+  const double now = t.frames.back().stamp;
+  trim(t, params_.window);
+  if (++t.since_classified < params_.classify_every)
+    return {};
+  const double span = now - t.frames.front().stamp;
+  if (t.frames.size() < 2 || span < params_.min_coverage * params_.window)
+    return {};
+  t.since_classified = 0;
+  std::size_t n = 0;
+  const auto c = classify(t, t.frames.front().stamp, now, &n);
+  if (!c)
+    return {};
+  if (c->label == t.published)
+    t.last_motion = now;  // the window still shows the published action
+  if (!stable(t, *c))
+    return {};
+  const bool keep = publishable(*c);
+  if (keep && c->label == t.published)
+    return {};
+  std::vector<LabelEvent> out;
+  if (!t.published.empty())  // the published action is over: its span ends at the last window that showed it
   {
-    trim(params_.window);
-    if (++t.since_classified < params_.classify_every)
-      return {};
-    const double span = now - t.frames.front().stamp;
-    if (t.frames.size() < 2 || span < params_.min_coverage * params_.window)
-      return {};
-    t.since_classified = 0;
-    std::size_t n = 0;
-    const auto c = classify(t, t.frames.front().stamp, now, &n);
-    if (!c)
-      return {};
-    if (c->label == t.published)
-      t.last_motion = now;  // the window still shows the published action
-    if (!stable(t, *c))
-      return {};
-    const bool keep = publishable(*c);
-    if (keep && c->label == t.published)
-      return {};
-    std::vector<LabelEvent> out;
-    if (!t.published.empty())  // the published action is over: its span ends at the last window that showed it
-    {
-      LabelEvent e = event(LabelEvent::Kind::Ended, Classification(), t.published_start, t.last_motion, 0);
-      e.result.label = t.published;
-      e.closes_published = true;
-      out.push_back(e);
-      t.published.clear();  // stillness: the same action after it is a new one
-    }
-    if (keep)
-    {
-      t.published = c->label;
-      t.published_start = t.frames.front().stamp;
-      t.last_motion = now;
-      out.push_back(event(LabelEvent::Kind::Started, *c, t.published_start, now, n));
-    }
-    return out;
+    out.push_back(closing(id, t.published, t.published_start, t.last_motion));
+    t.published.clear();  // stillness: the same action after it is a new one
   }
+  if (keep)
+  {
+    t.published = c->label;
+    t.published_start = t.frames.front().stamp;
+    t.last_motion = now;
+    out.push_back(event(LabelEvent::Kind::Started, id, *c, t.published_start, now, n));
+  }
+  return out;
+}
 
+std::optional<double> RecognitionPolicy::firstOrLastMoving(const Track& t, bool first) const
+{
+  // The smoothed rate lags the body: the motion began (or ended) at the first (or last) moving
+  // frame it averages.
+  const double now = t.frames.back().stamp;
+  std::optional<double> at;
+  for (auto it = t.frames.rbegin(); it != t.frames.rend() && it->stamp >= now - params_.motion_smooth; ++it)
+    if (it->motion > params_.motion_off)
+    {
+      at = it->stamp;
+      if (!first)
+        break;
+    }
+  return at;
+}
+
+std::vector<LabelEvent> RecognitionPolicy::addSegmented(std::uint32_t id, Track& t)
+{
+  const double now = t.frames.back().stamp;
   const double motion = smoothedMotion(t);
   if (!t.active)
   {
-    trim(params_.pre_roll + params_.motion_smooth + params_.motion_lag);
-    if (motion <= params_.motion_on)
-      return {};
-    t.active = true;
-    // The smoothed energy lags the body: the motion began at the first moving frame it averages.
-    t.segment_start = now;
-    for (auto it = t.frames.rbegin(); it != t.frames.rend() && it->stamp >= now - params_.motion_smooth; ++it)
-      if (it->motion > params_.motion_off)
-        t.segment_start = it->stamp;
-    t.last_motion = now;
-    t.published_in_segment = false;
-    t.candidate.clear();
-    t.candidate_count = 0;
-    t.since_classified = 0;
+    trim(t, params_.pre_roll + params_.motion_smooth + params_.motion_lag);
+    if (motion > params_.motion_on)
+    {
+      t.active = true;
+      t.segment_start = firstOrLastMoving(t, true).value_or(now);
+      t.last_motion = now;
+      t.published_in_segment = false;
+      t.candidate.clear();
+      t.candidate_count = 0;
+      t.since_classified = 0;
+    }
     return {};
   }
-  if (motion > params_.motion_off)  // the last moving frame it averages (it lags as above)
-    for (auto it = t.frames.rbegin(); it != t.frames.rend() && it->stamp >= now - params_.motion_smooth; ++it)
-      if (it->motion > params_.motion_off)
-      {
-        t.last_motion = it->stamp;
-        break;
-      }
-  trim(params_.max_segment + params_.pre_roll + params_.rest_time);
+  if (motion > params_.motion_off)
+    t.last_motion = firstOrLastMoving(t, false).value_or(t.last_motion);
+  trim(t, params_.max_segment + params_.pre_roll + params_.rest_time);
   if (now - t.last_motion >= params_.rest_time)
   {
     auto e = closeSegment(id, t);
@@ -187,27 +211,22 @@ std::vector<LabelEvent> RecognitionPolicy::addOnline(std::uint32_t id, Track& t)
   t.segment_label = c->label;
   t.published = c->label;
   t.published_start = std::max(from, t.frames.front().stamp);
-  return { event(LabelEvent::Kind::Started, *c, t.published_start, now, n) };
+  return { event(LabelEvent::Kind::Started, id, *c, t.published_start, now, n) };
 }
 
 std::optional<LabelEvent> RecognitionPolicy::closeSegment(std::uint32_t id, Track& t)
 {
   t.active = false;
   const double end = std::min(t.last_motion + params_.post_roll, t.frames.back().stamp);
-  LabelEvent e;
-  e.kind = LabelEvent::Kind::Ended;
-  e.track = id;
-  e.end = end;
   if (t.published_in_segment)
   {
     t.published_in_segment = false;
-    e.closes_published = true;
-    e.result.label = t.segment_label;
-    e.start = t.published_start;
+    LabelEvent e = closing(id, t.segment_label, t.published_start, end);
     for (const Frame& f : t.frames)
       e.frames += f.stamp >= e.start && f.stamp <= end;
     return e;
   }
+  LabelEvent e = event(LabelEvent::Kind::Ended, id, Classification(), 0.0, end, 0);
   if (t.last_motion - t.segment_start < params_.min_segment)
     return std::nullopt;
   const double from = std::max(t.segment_start - params_.pre_roll, end - params_.max_segment);
@@ -296,16 +315,7 @@ std::vector<LabelEvent> RecognitionPolicy::end(std::uint32_t id)
       out.push_back(*e);
   }
   else if (!use_motion_ && !t.published.empty())  // sliding window: the published action ends with the track
-  {
-    LabelEvent e;
-    e.kind = LabelEvent::Kind::Ended;
-    e.track = id;
-    e.result.label = t.published;
-    e.closes_published = true;
-    e.start = t.published_start;
-    e.end = t.last_motion;
-    out.push_back(e);
-  }
+    out.push_back(closing(id, t.published, t.published_start, t.last_motion));
   tracks_.erase(it);
   return out;
 }
