@@ -271,7 +271,23 @@ namespace tools
 void addSampleOptions(std::set<std::string>& valued)
 {
   valued.insert({ "points-topic", "depth-topic", "rgb-topic", "info-topic", "synth", "people", "repetitions", "seed",
-                  "msr-dir", "max-frames", "actions" });
+                  "msr-dir", "max-frames", "actions", "persons" });
+}
+
+const char* sampleUsage()
+{
+  return "sample options:\n"
+         "  --synth ias|msr                 render the samples in-process with the virtual Kinect (no bags)\n"
+         "  --people N, --repetitions R     ias: actors p01..pN, each action R times (default 12, 3)\n"
+         "  --msr-dir FOLDER                msr: the MSR Action3D skeleton files (aAA_sSS_eEE_skeleton.txt)\n"
+         "  --seed N                        dataset seed (default 1)\n"
+         "  --max-frames N                  render at most N frames of each sample (default 0: all)\n"
+         "  --index INDEX.csv               bags listed in a dataset index instead (see docs/synth.md)\n"
+         "  --points-topic, --depth-topic, --rgb-topic, --info-topic T\n"
+         "                                  the index's bags' topics (IAS-Lab layout by default)\n"
+         "  --actions a,b,...               only these actions\n"
+         "  --persons a,b,...               only these people (e.g. the training subjects alone, to develop a\n"
+         "                                  setting without a test subject: --protocol lopo --persons s01,s03,...)\n";
 }
 
 std::vector<SampleRef> selectSamples(const Args& args)
@@ -284,12 +300,15 @@ std::vector<SampleRef> selectSamples(const Args& args)
   if (args.has("index") == args.has("synth"))
     throw UsageError("give exactly one of --index INDEX.csv and --synth ias|msr");
   std::vector<SampleRef> all = args.has("index") ? samplesFromIndex(args.get("index"), topics) : samplesFromSynth(args);
-  if (!args.has("actions"))
-    return all;
-  const auto keep = splitList(args.get("actions"));
+  const auto listed = [&](const char* option, const std::string& value) {
+    if (!args.has(option))
+      return true;
+    const auto keep = splitList(args.get(option));
+    return std::find(keep.begin(), keep.end(), value) != keep.end();
+  };
   std::vector<SampleRef> kept;
   for (auto& s : all)
-    if (std::find(keep.begin(), keep.end(), s.action) != keep.end())
+    if (listed("actions", s.action) && listed("persons", s.person))
       kept.push_back(std::move(s));
   return kept;
 }

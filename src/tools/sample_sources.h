@@ -55,7 +55,9 @@ void addSampleOptions(std::set<std::string>& valued);
 std::vector<SampleRef> samplesFromSynth(const Args& args);
 /** A sample rendered by the virtual Kinect in-process (any dataset, streams included). */
 SampleRef renderedSample(const synth::SampleSpec& spec);
-/** The samples the options name. @throws on a bad index or option, naming it. */
+/** Usage lines of the sample options. */
+const char* sampleUsage();
+/** The samples the options name (--actions and --persons keep only those listed). @throws on a bad index or option, naming it. */
 std::vector<SampleRef> selectSamples(const Args& args);
 /** The cache folder the options name (default ~/.ros/action_flow/cache). */
 std::string cacheDir(const Args& args);

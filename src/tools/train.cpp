@@ -35,6 +35,7 @@ int main(int argc, char** argv)
     if (args.has("help") || !args.has("output"))
     {
       std::fputs(kUsage, args.has("help") ? stdout : stderr);
+      std::fputs(sampleUsage(), args.has("help") ? stdout : stderr);
       std::fputs(methodUsage(), args.has("help") ? stdout : stderr);
       return args.has("help") ? 0 : 2;
     }

@@ -3,6 +3,8 @@
 
 #include <action_flow/action_model.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -99,6 +101,23 @@ TEST(Tools, TinyDatasetTrainsAndEvaluatesEndToEnd)
   // A broken report is caught by the validator (so the check above could fail).
   std::ofstream(out + "/report.json") << "{\"protocol\": \"lopo\"}";
   EXPECT_NE(run("/usr/bin/python3 " + kScripts + "/validate_report.py '" + out + "'").status, 0);
+}
+
+TEST(Tools, PersonsOptionKeepsOnlyThosePeople)
+{
+  // The development protocol (settings tried on the training people alone) depends on this filter.
+  const std::string out = tempDir("persons"), cache = tempDir("persons_cache");
+  const Result r = run(kBin + "/evaluate --index '" + tinyDataset() + "' --output '" + out +
+                       "' --persons p01,p03 --variants posture_flow_nn --sweep 0 --no-plots --cache '" + cache + "'");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(out + "/report.json");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["samples"]["people"], 2);
+  EXPECT_EQ(report["samples"]["total"], 6);
+  EXPECT_EQ(report["folds"], 2);
+  const Result help = run(kBin + "/evaluate --help");
+  EXPECT_NE(help.output.find("--persons"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("--msr-dir"), std::string::npos) << "the sample options are listed: " << help.output;
 }
 
 TEST(Tools, MalformedIndexGivesOneLineNamingTheLine)
