@@ -81,8 +81,10 @@ struct TrackerParams
   float camera_height = 0.0f;
   /** The camera's downward pitch (rad, about its x axis; positive = looking down); with camera_height. */
   float camera_pitch = 0.0f;
-  /** Organized clouds: a cluster whose top reaches the image's top edge (within 2 rows) is no person:
-   *  its height is the image's, not a head's (walls, curtains, doors, shelves cut by the image border). */
+  /** Organized clouds: a cluster whose top reaches the image's top edge (within 2 rows) about as wide
+   *  as its widest row (half of it or more) is no person: its height is the image's, not a head's
+   *  (walls, curtains, doors, shelves cut by the image border). A raised hand or a head leaving the
+   *  image is much narrower than the body, and is kept. */
   bool reject_top_at_border = true;
   /** Organized clouds: a person stands free of what is behind them; at least this share of the rows
    *  of the head (its top 0.25 m) must show a depth step of free_depth_step (or no depth) on both sides

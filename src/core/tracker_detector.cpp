@@ -45,8 +45,24 @@ constexpr float kAboveHeads = 0.5f;
 
 // The head region of a person: its top this many metres.
 constexpr float kHeadDepth = 0.25f;
-// A top within this many rows of the image's top edge is the edge's, not a head's.
+// A top within this many rows of the image's top edge is the edge's, not a head's...
 constexpr int kBorderRows = 2;
+// ... when the cluster is cut there about as wide as it is anywhere (a wall, door or shelf cut by
+// the image's edge). A raised hand or a head leaving the image is far narrower than the body below
+// it: at least this much narrower, in pixels of the widest row.
+constexpr float kCutSurfaceWidthRatio = 0.5f;
+
+// Whether a candidate reaching the image's top edge is cut there like a surface: its widest row
+// within kBorderRows of the edge has at least kCutSurfaceWidthRatio of its widest row's pixels.
+bool cutByTopBorder(const Cloud& cloud, const PersonDetection& d)
+{
+  std::vector<int> per_row(cloud.height, 0);
+  for (const auto i : d.indices)
+    ++per_row[i / cloud.width];
+  const int widest = *std::max_element(per_row.begin(), per_row.end());
+  const int at_border = *std::max_element(per_row.begin(), per_row.begin() + std::min<int>(kBorderRows + 1, cloud.height));
+  return at_border > 0 && static_cast<float>(at_border) >= kCutSurfaceWidthRatio * static_cast<float>(widest);
+}
 // Weak candidates (see PersonDetection::weak) closer than this on the floor are parts of one body (m).
 constexpr float kFragmentDistance = 0.45f;
 
@@ -544,7 +560,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
         top_row = std::min(top_row, static_cast<std::uint32_t>(i / cloud.width));
       d.top_row = static_cast<int>(top_row);
       d.free_fraction = freeFraction(cloud, d, ground, origin, params_.free_depth_step);
-      if (params_.reject_top_at_border && d.top_row <= kBorderRows)
+      if (params_.reject_top_at_border && d.top_row <= kBorderRows && cutByTopBorder(cloud, d))
         continue;
       // Only of a new person: a bending body continuing its track has its back, not a free head, on top.
       if (!d.weak && !(d.free_fraction >= params_.min_free_fraction))

@@ -79,7 +79,9 @@ std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t
 {
   std::ostringstream s;
   // Every parameter that shapes a frame descriptor: the recognizer's kind, flow, grid and tracker.
-  s << "v2 " << toString(p.recognizer) << " vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
+  // The leading revision changes with the code of those stages (v3: a top at the image's edge no
+  // longer always rejects a person).
+  s << "v3 " << toString(p.recognizer) << " vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
     << " ms" << p.flow.min_speed << " is" << p.flow.isolation_speed << " nr" << p.flow.neighbour_radius << " g"
     << p.grid.parts_x << p.grid.parts_y << p.grid.parts_z << " " << p.grid.width << " " << p.grid.height << " "
     << p.grid.depth << " " << p.grid.reference_height << " " << toString(p.grid.aggregation) << " | t"

@@ -1,6 +1,7 @@
 // The tracker against the failures: the ground when little floor is seen (kept, given by the
 // camera's mounting, corrected when wrong), walls and furniture that are no people, and bodies that
 // are not upright keeping their track. Scenes from test/tracker/scene.h and the virtual Kinect.
+#include "real_data.h"
 #include "scene.h"
 
 #include <action_flow/people_tracker.h>
@@ -232,14 +233,10 @@ struct SampleTrack
   std::set<std::uint32_t> ids;
 };
 
-SampleTrack trackSample(const std::string& action, const std::string& person)
+SampleTrack trackSample(const synth::SampleSpec& spec, const TrackerParams& params)
 {
-  synth::SampleSpec spec;
-  spec.person = person;
-  spec.action = action;
   const synth::SampleRenderer sample(spec);
-  // A real sensor's configuration: with the defaults alone (no HOG) the room's chair is reported too.
-  PeopleTracker tracker(sensorParams());
+  PeopleTracker tracker(params);
   SampleTrack out;
   out.frames = sample.frames();
   Cloud cloud;
@@ -280,7 +277,11 @@ TEST(TrackerPostures, BendingAndKickingPeopleKeepTheirTrack)
       SCOPED_TRACE(action + " " + person);
       if (defaultHogClassifierFile().empty())
         GTEST_SKIP() << "the default HOG classifier is not found (see docs/tracker.md)";
-      const SampleTrack t = trackSample(action, person);
+      synth::SampleSpec spec;
+      spec.person = person;
+      spec.action = action;
+      // A real sensor's configuration: with the defaults alone (no HOG) the room's chair is reported too.
+      const SampleTrack t = trackSample(spec, sensorParams());
       ASSERT_GT(t.frames, 20);
       EXPECT_EQ(t.ids.size(), 1u) << "the actor changed track id";
       // Confirmed on the second frame, then seen in (almost) every frame: at the deepest bend of a
@@ -288,4 +289,26 @@ TEST(TrackerPostures, BendingAndKickingPeopleKeepTheirTrack)
       EXPECT_GE(t.seen, (t.frames - 1) * 95 / 100) << "the actor was missed in " << t.frames - 1 - t.seen << " frames";
       EXPECT_EQ(t.others, 0);
     }
+}
+
+TEST(TrackerLikeness, ARaisedHandLeavingTheImageKeepsThePerson)
+{
+  // MSR Action3D's high arm wave of subject 8 (real motion, the virtual Kinect's room and camera):
+  // the hand rises above the image's top edge for most of the sequence. A top at the edge used to
+  // mean "a wall cut by the image" and the performer was lost in 99 of 115 frames.
+  synth::SampleSpec spec;
+  spec.dataset = "msr";
+  spec.person = "s08";
+  spec.action = "high_arm_wave";
+  spec.skeleton_file = test::dataDir() + "/msr_action3d_skeletons/a01_s08_e01_skeleton3D.txt";
+  if (!test::fileExists(spec.skeleton_file))
+    GTEST_SKIP() << "MSR Action3D skeletons absent: " << spec.skeleton_file;
+  const SampleTrack t = trackSample(spec, TrackerParams());
+  ASSERT_GT(t.frames, 100);
+  // Measured: missed in 8 of 115 frames (the hand beside the head: its rows are not free on both
+  // sides), and the waving arm split off as a second person in 6 (a raised hand's top is taken for
+  // a second head: a known weakness of the head-based split, docs/tracker.md).
+  EXPECT_GE(t.seen, (t.frames - 1) * 90 / 100) << "the performer was missed in " << t.frames - 1 - t.seen << " frames";
+  EXPECT_LE(t.ids.size(), 2u);
+  EXPECT_LE(t.others, t.frames / 10);
 }
