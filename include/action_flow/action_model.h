@@ -102,10 +102,11 @@ private:
 struct ActionModel
 {
   /**
-   * Bumped whenever the layout of the file changes. Version 1 (the paper's recognizer only) still
-   * loads; other versions are refused with a clear message.
+   * Bumped whenever the layout of the file changes. Versions 1 (the paper's recognizer only) and 2
+   * (posture_flow without the geometry block) still load and classify as they did; other versions
+   * are refused with a clear message.
    */
-  static constexpr std::uint32_t kFormatVersion = 2;
+  static constexpr std::uint32_t kFormatVersion = 3;
 
   RecognitionParams params;
   Pca pca;                          ///< empty unless params.use_pca

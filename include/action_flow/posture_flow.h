@@ -15,9 +15,16 @@
  *   divided by the person's point count: a 6-bin direction histogram weighted by speed, in m/s
  *   per body point, so it does not depend on how many points the person has (distance).
  * - Levels are stored coarse to fine; cells x fastest, then y, then z, as in GridDescriptor.
+ * - Then the body's geometry, 24 values (kGeometryValues) in the grid's coordinates divided by its
+ *   size (x and z centred on the person, y from the ground; so 0.5 is the grid's edge): the centroid
+ *   of the body's points (3); the mean position of the kExtremePoints points furthest along each of
+ *   +x, -x, +y, +z and -z (15: where the hands, the raised arm, the kicking foot are, which the
+ *   cells' shares only place to half a metre); and of the flow, per body point, the speed-weighted
+ *   offset of the moving points from the centroid (3: where the motion is) and their angular
+ *   momentum about the centroid, r x v (3: a circle and its direction, a stroke's slant).
  *
  * Every frame with a person gives a descriptor, with or without flow (a still person has a
- * posture). The full layout is always computed (511 values); which parts a model uses is chosen
+ * posture). The full layout is always computed (535 values); which parts a model uses is chosen
  * later by PyramidParams (posture_flow_sequence.h), so the ablations share one computation.
  */
 #pragma once
@@ -32,6 +39,10 @@ namespace action_flow
 {
 /** @brief Values per cell: posture share, then +x, -x, +y, -y, +z, -z flow. */
 constexpr int kPostureFlowValuesPerCell = 7;
+/** @brief Values of the body-geometry block after the cells (see the file comment). */
+constexpr int kGeometryValues = 24;
+/** @brief Points averaged into each extreme of the geometry block. */
+constexpr int kExtremePoints = 8;
 
 class PostureFlowDescriptor
 {
@@ -49,8 +60,10 @@ public:
   int cells(int level) const;
   /** @brief Offset of level @p l's first value in the descriptor. */
   int offset(int level) const;
-  /** @brief Length of the descriptor (511 for the default 4x4x4 grid). */
-  int size() const { return offset(kLevels); }
+  /** @brief Offset of the body-geometry block (after the cells of every level). */
+  int geometryOffset() const { return offset(kLevels); }
+  /** @brief Length of the descriptor (535 for the default 4x4x4 grid: 511 cell values, 24 geometry). */
+  int size() const { return geometryOffset() + kGeometryValues; }
 
   /**
    * @brief The descriptor of a person: @p cloud (the person's points) for the posture, @p flow
@@ -61,7 +74,9 @@ public:
 
   /**
    * @brief The descriptor of the same person mirrored left to right (x -> -x): cells swap across
-   *        the person's centre and +x and -x flow swap. Exact for this grid, so a mirrored actor
+   *        the person's centre and +x and -x flow swap; in the geometry block x coordinates change
+   *        sign, the +x and -x extremes swap and so do the signs of the angular momentum's y and z
+   *        (a pseudovector). Exact for this grid, so a mirrored actor
    *        costs no rendering (training-time augmentation).
    * @throws std::invalid_argument on a descriptor of the wrong length
    */
@@ -77,6 +92,10 @@ public:
   float postureChange(const Eigen::VectorXf& a, const Eigen::VectorXf& b) const;
 
 private:
+  /** The geometry block of the body's points @p uvw (grid-normalised, all inside) and the flow in it. */
+  void computeGeometry(const std::vector<Eigen::Vector3f>& uvw, const std::vector<std::pair<Eigen::Vector3f, Eigen::Vector3f>>& moving,
+                       Eigen::Ref<Eigen::VectorXf> out) const;
+
   GridDescriptor grid_;  // the finest level's geometry
 };
 

@@ -52,6 +52,9 @@ struct PyramidParams
   bool posture = true;              ///< use the cells' shares of the body's points
   FlowEncoding flow = FlowEncoding::Choose;  ///< direction bins or signed sums per cell
   bool coarse_to_fine = true;       ///< cells at 1, 2 and 4 parts per axis; false: 4 only
+  /** Use the body-geometry block (centroid, extremes, where the flow is and how it turns); models
+   *  of format version 2 predate it and load with false. */
+  bool geometry = true;
   int temporal_levels = 3;          ///< pyramid levels: 1 = whole sequence, 2 = + halves, 3 = + quarters
   PyramidClassifier classifier = PyramidClassifier::Linear;
   /** Regularisation of the linear classifier; 0 = chosen by cross-validation inside the training people. */

@@ -142,6 +142,8 @@ void putParams(Writer& w, const RecognitionParams& p)
   w.put<std::int32_t>(p.pyramid.classifier == PyramidClassifier::Linear ? 0 : 1);
   w.put(p.pyramid.c);
   w.put<std::uint8_t>(static_cast<std::uint8_t>(p.pyramid.mirror));
+  // Since format version 3.
+  w.put<std::uint8_t>(p.pyramid.geometry);
 }
 
 RecognitionParams getParams(Reader& r, std::uint32_t version)
@@ -193,6 +195,8 @@ RecognitionParams getParams(Reader& r, std::uint32_t version)
   if (mirror > 2)
     r.fail("unknown mirror code " + std::to_string(mirror));
   p.pyramid.mirror = static_cast<MirrorMode>(mirror);
+  // Version 2 frame descriptors had no geometry block; its models use the cells alone, as before.
+  p.pyramid.geometry = version >= 3 ? r.get<std::uint8_t>() != 0 : false;
   return p;
 }
 
@@ -354,7 +358,7 @@ ActionModel ActionModel::load(const std::string& path)
   if (std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
     header.fail("not an action_flow model (bad magic)");
   const auto version = header.get<std::uint32_t>();
-  if (version != kFormatVersion && version != 1)
+  if (version != kFormatVersion && version != 1 && version != 2)
     header.fail("format version " + std::to_string(version) + ", this build reads version " +
                 std::to_string(kFormatVersion) + "; retrain the model");
   const auto size = header.get<std::uint64_t>();

@@ -33,7 +33,7 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
   int cells = 0;
   for (int l = first; l < PostureFlowDescriptor::kLevels; ++l)
     cells += layout.cells(l);
-  Eigen::VectorXf out(cells * per_cell);
+  Eigen::VectorXf out(cells * per_cell + (params.geometry ? kGeometryValues : 0));
   int at = 0;
   for (int l = first; l < PostureFlowDescriptor::kLevels; ++l)
     for (int c = 0; c < layout.cells(l); ++c)
@@ -50,6 +50,8 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
         else
           out[at++] = cell[1 + 2 * a] - cell[2 + 2 * a];
     }
+  if (params.geometry)
+    out.tail(kGeometryValues) = full.segment<kGeometryValues>(layout.geometryOffset());
   return out;
 }
 

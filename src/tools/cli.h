@@ -145,7 +145,7 @@ inline const std::set<std::string>& methodOptions()
 inline const std::set<std::string>& methodFlags()
 {
   static const std::set<std::string> o = { "pca", "no-outlier-rejection", "no-posture", "no-direction-histogram",
-                                           "single-level", "no-mirror", "mirror", "direction-histogram" };
+                                           "single-level", "no-mirror", "mirror", "direction-histogram", "no-geometry" };
   return o;
 }
 
@@ -159,7 +159,7 @@ inline const char* methodUsage()
          "  --c C                           the linear classifier's C (default: chosen by cross-validation\n"
          "                                  over the training people)\n"
          "  --temporal-levels N             pyramid levels, 1 = whole sequence only (default 3)\n"
-         "  --no-posture, --no-direction-histogram, --single-level, --no-mirror\n"
+         "  --no-posture, --no-direction-histogram, --single-level, --no-geometry, --no-mirror\n"
          "                                  switch off one part (for ablations); mirrored training copies\n"
          "                                  are otherwise used or not as the cross-validation chooses\n"
          "  paper:\n"
@@ -186,6 +186,7 @@ inline RecognitionParams methodParams(const Args& a)
   if (a.has("direction-histogram"))
     p.pyramid.flow = FlowEncoding::Bins;
   p.pyramid.coarse_to_fine = !a.has("single-level");
+  p.pyramid.geometry = !a.has("no-geometry");
   if (a.has("no-mirror"))
     p.pyramid.mirror = MirrorMode::Off;
   if (a.has("mirror"))

@@ -33,7 +33,7 @@ const char* kUsage =
     "                                  continuous streams of new people (see below)\n"
     "  --train-persons a,b,...         cross-subject training people (default s01,s03,s05,s07,s09)\n"
     "  --actions a,b,...               evaluate on these actions only (e.g. an MSR subset)\n"
-    "  --variants v1,v2,...            of posture_flow, posture_flow_no_posture, posture_flow_sums,\n"
+    "  --variants v1,v2,...            of posture_flow, posture_flow_no_posture, posture_flow_no_geometry, posture_flow_sums,\n"
     "                                  posture_flow_bins, posture_flow_single_level, posture_flow_no_pyramid,\n"
     "                                  posture_flow_nn, posture_flow_no_mirror, posture_flow_mirror,\n"
     "                                  meanflow, sumflow_raw, sumflow, sumflow_pca,\n"
@@ -201,6 +201,8 @@ VariantTable variantTable(const RecognitionParams& base)
   return { { sum, mean, raw, pf }, {
     { "posture_flow", "posture_flow (default)", pf, 3 },
     { "posture_flow_no_posture", "posture_flow without posture", ablation([](PyramidParams& p) { p.posture = false; }), 3 },
+    { "posture_flow_no_geometry", "posture_flow without the body geometry",
+      ablation([](PyramidParams& p) { p.geometry = false; }), 3 },
     { "posture_flow_sums", "posture_flow, always signed flow sums",
       ablation([](PyramidParams& p) { p.flow = FlowEncoding::Sums; }), 3 },
     { "posture_flow_bins", "posture_flow, always direction bins",

@@ -1,5 +1,6 @@
 // Nearest-neighbour classification and the model file.
 #include <action_flow/action_model.h>
+#include <action_flow/posture_flow.h>
 
 #include <gtest/gtest.h>
 #include <boost/crc.hpp>
@@ -255,30 +256,76 @@ TEST(ActionModel, OnlyARegularFileIsReadAsAModel)
   std::remove(fifo.c_str());
 }
 
+// Makes a file of an older format @p version from the current one at @p path: its payload with
+// @p erase(payload) applied, under a header of that version with the payload's size and checksum.
+template <class Erase>
+void rewriteAsVersion(const std::string& path, std::uint32_t version, Erase erase)
+{
+  const std::string now = readAll(path);
+  const std::size_t head = 8 + 4 + 8 + 4;
+  std::string payload = now.substr(head);
+  erase(payload);
+  boost::crc_32_type crc;
+  crc.process_bytes(payload.data(), payload.size());
+  const std::uint32_t checksum = crc.checksum();
+  const std::uint64_t size = payload.size();
+  std::string old = now.substr(0, 8);
+  old.append(reinterpret_cast<const char*>(&version), 4);
+  old.append(reinterpret_cast<const char*>(&size), 8);
+  old.append(reinterpret_cast<const char*>(&checksum), 4);
+  writeAll(path, old + payload);
+}
+
+// A file of format version 2 (posture_flow before the geometry block: its frames had the cells
+// only) still loads and classifies as it did: made from a version 3 file by taking out the one
+// byte version 3 added after the parameters (71 bytes of the paper's, 24 of posture_flow's).
+TEST(ActionModel, VersionTwoFileLoadsWithoutTheGeometryBlock)
+{
+  ActionModel m;
+  m.params = defaultRecognitionParams();
+  m.params.pyramid.geometry = false;
+  m.params.pyramid.flow = FlowEncoding::Bins;
+  m.params.pyramid.mirror = MirrorMode::Off;
+  m.params.pyramid.c = 1.0;
+  const Eigen::Index length = m.sequenceLength();
+  ASSERT_EQ(length, 511 * 7);
+  const TrainingSet t = randomSet(20, static_cast<int>(length), 5);
+  m.descriptors = t.descriptors;
+  m.labels = t.labels;
+  m.persons = t.persons;
+  m.linear = LinearClassifier::train(m.descriptors, m.labels, 1.0);
+  const std::string path = tempPath("v2.model");
+  m.save(path);
+  rewriteAsVersion(path, 2, [](std::string& payload) { payload.erase(71 + 24, 1); });
+  const ActionModel back = ActionModel::load(path);
+  EXPECT_FALSE(back.params.pyramid.geometry);
+  EXPECT_EQ(back.sequenceLength(), length);
+  // Today's frame descriptors (cells and geometry) go in; the model uses the cells, as before.
+  const PostureFlowDescriptor layout(back.params.grid);
+  std::vector<Eigen::VectorXf> frames(3, Eigen::VectorXf::Constant(layout.size(), 0.1f));
+  EXPECT_EQ(back.sequence(frames, { 0.0, 0.1, 0.2 }).size(), length);
+  for (int i = 0; i < 5; ++i)
+    EXPECT_EQ(back.classifier().classify(m.descriptors.row(i).transpose()).label,
+              m.classifier().classify(m.descriptors.row(i).transpose()).label);
+  // The same bytes under version 3 are one byte short: refused, not misread.
+  rewriteAsVersion(path, 3, [](std::string&) {});
+  EXPECT_THROW(ActionModel::load(path), ModelError);
+  std::remove(path.c_str());
+}
+
 // A file of format version 1 (before posture_flow: no recognizer and no linear classifier in it)
-// still loads, as the paper's recognizer. It is made here from a version 2 file by taking out
-// what version 2 added: the 24 bytes of posture_flow parameters after the paper's 71 bytes, and
-// the empty linear classifier at the end (a count and four empty matrices, 72 bytes).
+// still loads, as the paper's recognizer. It is made here from a version 3 file by taking out
+// what versions 2 and 3 added: the 25 bytes of posture_flow parameters after the paper's 71 bytes,
+// and the empty linear classifier at the end (a count and four empty matrices, 72 bytes).
 TEST(ActionModel, VersionOneFileLoadsAsThePapersRecognizer)
 {
   const ActionModel m = smallModel();
   const std::string path = tempPath("v1.model");
   m.save(path);
-  const std::string v2 = readAll(path);
-  const std::size_t head = 8 + 4 + 8 + 4;
-  std::string payload = v2.substr(head);
-  payload.erase(71, 24);
-  payload.erase(payload.size() - 72);
-  boost::crc_32_type crc;
-  crc.process_bytes(payload.data(), payload.size());
-  const std::uint32_t version = 1, checksum = crc.checksum();
-  const std::uint64_t size = payload.size();
-  std::string v1 = v2.substr(0, 8);
-  v1.append(reinterpret_cast<const char*>(&version), 4);
-  v1.append(reinterpret_cast<const char*>(&size), 8);
-  v1.append(reinterpret_cast<const char*>(&checksum), 4);
-  v1 += payload;
-  writeAll(path, v1);
+  rewriteAsVersion(path, 1, [](std::string& payload) {
+    payload.erase(71, 25);
+    payload.erase(payload.size() - 72);
+  });
   const ActionModel back = ActionModel::load(path);
   EXPECT_EQ(back.params.recognizer, Recognizer::Paper);
   EXPECT_EQ(back.params.frames, 3);

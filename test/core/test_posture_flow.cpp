@@ -52,7 +52,39 @@ TEST(PostureFlowDescriptor, LayoutIsOneTwoFourPartsPerAxis)
   EXPECT_EQ(d.parts(2)[2], 4);
   EXPECT_EQ(d.offset(1), 7);
   EXPECT_EQ(d.offset(2), 7 + 56);
-  EXPECT_EQ(d.size(), 7 * (1 + 8 + 64));
+  EXPECT_EQ(d.geometryOffset(), 7 * (1 + 8 + 64));
+  EXPECT_EQ(d.size(), 7 * (1 + 8 + 64) + kGeometryValues);
+}
+
+TEST(PostureFlowDescriptor, GeometryBlockHasKnownCentroidExtremesAndMomentum)
+{
+  const PostureFlowDescriptor d;
+  const PersonFrame person;  // 1.75 m: the grid is 2.0 x 2.3 x 1.8 m, so x/2, y/2.3, z/1.8
+  // kExtremePoints points at each of five places: the right hand, the left hand, the head, in front
+  // of the chest (+z, toward the camera) and behind it.
+  const std::vector<Eigen::Vector3f> places = { { 0.8f, 1.0f, 0.0f }, { -0.8f, 1.0f, 0.0f }, { 0.0f, 2.0f, 0.0f },
+                                                { 0.0f, 1.0f, 0.6f }, { 0.0f, 1.0f, -0.6f } };
+  std::vector<Eigen::Vector3f> points;
+  for (const auto& p : places)
+    for (int i = 0; i < kExtremePoints; ++i)
+      points.push_back(p);
+  // The right hand rises at 1 m/s.
+  const FlowVectors flow = { { places[0], { 0.0f, 1.0f, 0.0f } } };
+  const Eigen::VectorXf v = d.compute(pointsAt(points), flow, person);
+  const auto g = [&](int i) { return Eigen::Vector3f(v.segment<3>(d.geometryOffset() + 3 * i)); };
+  const Eigen::Vector3f scale(2.0f, 2.3f, 1.8f);
+  const Eigen::Vector3f centroid = Eigen::Vector3f(0.0f, 1.2f, 0.0f).cwiseQuotient(scale);
+  EXPECT_LT((g(0) - centroid).norm(), 1e-6f);
+  for (int e = 0; e < 5; ++e)  // +x, -x, +y, +z, -z
+    EXPECT_LT((g(1 + e) - places[e].cwiseQuotient(scale)).norm(), 1e-6f) << "extreme " << e;
+  const float n = static_cast<float>(points.size());
+  const Eigen::Vector3f r = places[0].cwiseQuotient(scale) - centroid;  // (0.4, -0.2/2.3, 0)
+  EXPECT_LT((g(6) - r / n).norm(), 1e-6f) << "speed-weighted offset of the motion";
+  EXPECT_LT((g(7) - Eigen::Vector3f(0.0f, 0.0f, 0.4f / n)).norm(), 1e-6f) << "r x v: turning about +z";
+  // No flow: no motion values, the rest unchanged.
+  const Eigen::VectorXf still = d.compute(pointsAt(points), {}, person);
+  EXPECT_EQ(still.tail<6>(), Eigen::VectorXf::Zero(6));
+  EXPECT_EQ(still.segment<18>(d.geometryOffset()), v.segment<18>(d.geometryOffset()));
 }
 
 TEST(PostureFlowDescriptor, HandBuiltPersonGivesKnownPostureAndFlow)
@@ -80,7 +112,7 @@ TEST(PostureFlowDescriptor, HandBuiltPersonGivesKnownPostureAndFlow)
   cell(at(d, 1, 1, 1, 1), 0.25f, { 0, 0, 0, 0, 0.125f, 0 });
   cell(at(d, 2, 0, 0, 0), 0.75f, { 0.25f, 0, 0, 0.5f, 0, 0 });
   cell(at(d, 2, 3, 3, 3), 0.25f, { 0, 0, 0, 0, 0.125f, 0 });
-  for (int i = 0; i < d.size(); ++i)
+  for (int i = 0; i < d.geometryOffset(); ++i)  // the geometry block has a test of its own
     EXPECT_NEAR(v[i], expected[i], 1e-6f) << "value " << i;
 
   // The person's point count does not matter, only shares: doubling every point gives the same.
@@ -131,18 +163,26 @@ TEST(TemporalPyramid, SelectsTheParts)
   PyramidParams all;
   EXPECT_THROW(selectFrameFeatures(full, layout, all), std::invalid_argument) << "the encoding is not chosen yet";
   all.flow = FlowEncoding::Bins;
+  EXPECT_EQ(selectFrameFeatures(full, layout, all).size(), 511 + kGeometryValues);
+  full.tail<kGeometryValues>().setConstant(0.25f);
+  EXPECT_EQ(selectFrameFeatures(full, layout, all).tail<kGeometryValues>(), full.tail<kGeometryValues>());
+  all.geometry = false;
   EXPECT_EQ(selectFrameFeatures(full, layout, all).size(), 511);
   EXPECT_EQ(selectFrameFeatures(full, layout, all).head<7>(), full.head<7>());
   PyramidParams no_posture = all;
   no_posture.posture = false;
   EXPECT_EQ(selectFrameFeatures(full, layout, no_posture).size(), 6 * 73);
+  no_posture.geometry = true;
+  EXPECT_EQ(selectFrameFeatures(full, layout, no_posture).size(), 6 * 73 + kGeometryValues);
+  no_posture.geometry = false;
   EXPECT_EQ(selectFrameFeatures(full, layout, no_posture)[0], 2.0f);
   PyramidParams sums;
   sums.flow = FlowEncoding::Sums;
+  sums.geometry = false;
   const Eigen::VectorXf s = selectFrameFeatures(full, layout, sums);
   ASSERT_EQ(s.size(), 4 * 73);
   EXPECT_EQ(s.head<4>(), Eigen::Vector4f(1, -1, -1, -1));  // +x - -x, +y - -y, +z - -z
-  PyramidParams fine = all;
+  PyramidParams fine = all;  // geometry off
   fine.coarse_to_fine = false;
   const Eigen::VectorXf f = selectFrameFeatures(full, layout, fine);
   ASSERT_EQ(f.size(), 7 * 64);
@@ -258,7 +298,7 @@ TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
   m.params.pyramid.flow = FlowEncoding::Bins;
   m.params.pyramid.mirror = MirrorMode::Off;
   const Eigen::Index length = m.sequenceLength();
-  EXPECT_EQ(length, 511 * 7);
+  EXPECT_EQ(length, (511 + kGeometryValues) * 7);
   m.descriptors = Eigen::MatrixXf::Zero(x.rows(), length);
   m.descriptors.leftCols(5) = x;
   m.labels = labels;
@@ -284,7 +324,7 @@ TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
 
   // A model whose classifier does not fit its sequences is refused at load, naming the fault.
   ActionModel bad = m;
-  bad.params.pyramid.temporal_levels = 2;  // sequences would be 511 x 3 long
+  bad.params.pyramid.temporal_levels = 2;  // sequences would be 535 x 3 long
   bad.descriptors = Eigen::MatrixXf::Zero(x.rows(), bad.sequenceLength());
   bad.save(path);
   try
