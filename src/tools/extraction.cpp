@@ -80,8 +80,8 @@ std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t
   std::ostringstream s;
   // Every parameter that shapes a frame descriptor: the recognizer's kind, flow, grid and tracker.
   // The leading revision changes with the code of those stages (v3: a top at the image's edge no
-  // longer always rejects a person).
-  s << "v3 " << toString(p.recognizer) << " vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
+  // longer always rejects a person; v4: posture_flow's geometry block).
+  s << "v4 " << toString(p.recognizer) << " vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
     << " ms" << p.flow.min_speed << " is" << p.flow.isolation_speed << " nr" << p.flow.neighbour_radius << " g"
     << p.grid.parts_x << p.grid.parts_y << p.grid.parts_z << " " << p.grid.width << " " << p.grid.height << " "
     << p.grid.depth << " " << p.grid.reference_height << " " << toString(p.grid.aggregation) << " | t"
@@ -124,7 +124,11 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
       {
         bool all = true;
         for (std::size_t v = 0; v < variants.size(); ++v)
-          all = loadSampleFrames(cachePath(v, s), out[v][s]) && all;
+          // A file of another descriptor length (an older layout) is made again.
+          all = loadSampleFrames(cachePath(v, s), out[v][s]) &&
+                (out[v][s].descriptors.rows() == 0 ||
+                 out[v][s].descriptors.cols() == frameDescriptorLength(variants[v])) &&
+                all;
         if (all)
           ++cached;
         else
