@@ -18,6 +18,18 @@ import threading
 import time
 
 
+def stop_launch(proc):
+    """Stops a roslaunch started in its own process group: SIGINT (a clean shutdown), SIGKILL after 20 s."""
+    try:
+        os.killpg(proc.pid, signal.SIGINT)
+        proc.wait(timeout=20)
+    except (subprocess.TimeoutExpired, ProcessLookupError):
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("bag")
@@ -69,14 +81,7 @@ def main():
     deadline = time.monotonic() + args.timeout
     while reader.is_alive() and time.monotonic() < deadline and not (first and time.monotonic() > first[0] + 4.0):
         time.sleep(0.1)
-    try:
-        os.killpg(proc.pid, signal.SIGINT)
-        proc.wait(timeout=20)
-    except (subprocess.TimeoutExpired, ProcessLookupError):
-        try:
-            os.killpg(proc.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
+    stop_launch(proc)
     if not labels:
         tail = "".join(log[-15:])
         sys.exit(f"label_bag: no label for '{args.bag}' within {args.timeout:.0f} s; launch output ended with:\n{tail}")

@@ -12,10 +12,12 @@ line on stderr if the launch failed or a file is missing or malformed."""
 import argparse
 import csv
 import os
-import signal
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))  # label_bag.py lies beside this script
+from label_bag import stop_launch  # noqa: E402
 
 
 def read_segments(path):
@@ -85,14 +87,7 @@ def main():
         while time.monotonic() < end and proc.poll() is None:
             time.sleep(0.2)
     finally:
-        try:
-            os.killpg(proc.pid, signal.SIGINT)
-            proc.wait(timeout=20)
-        except (subprocess.TimeoutExpired, ProcessLookupError):
-            try:
-                os.killpg(proc.pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
+        stop_launch(proc)
 
     t0 = min([s for _, s, _ in truth] + [l[3] for l in labels]) if truth or labels else 0.0
     assigned = {i: [] for i in range(len(truth))}

@@ -79,8 +79,9 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
  * @brief The temporal pyramid: level l cuts the sequence's time span [t_first, t_last] into 2^l
  *        equal parts; each part gives the mean of the frames whose stamps fall in it (the frame
  *        nearest its middle when none does). Parts are concatenated, whole sequence first, then
- *        halves, then quarters; each value v becomes sign(v) sqrt(|v|) (a power normalisation that
- *        keeps large motions from swamping small ones).
+ *        halves, then quarters; with @p power each value v becomes sign(v) sqrt(|v|) (a power
+ *        normalisation that keeps large motions from swamping small ones; for shares and flow,
+ *        not for coordinates).
  * @param frames frame feature vectors, all of one length, in time order
  * @param stamps their stamps (non-decreasing)
  * @param levels 1..4
@@ -88,7 +89,7 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
  *         or levels outside 1..4
  */
 Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps,
-                                int levels);
+                                int levels, bool power = true);
 
 /** @brief Number of parts of a pyramid of @p levels levels: 2^levels - 1. */
 int pyramidParts(int levels);

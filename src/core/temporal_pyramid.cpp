@@ -61,7 +61,7 @@ int pyramidParts(int levels)
 }
 
 Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps,
-                                int levels)
+                                int levels, bool power)
 {
   if (frames.empty() || frames.size() != stamps.size())
     throw std::invalid_argument("temporalPyramid: needs as many stamps as frames, and at least one frame");
@@ -117,9 +117,11 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
         sum = frames[best];
         n = 1;
       }
-      out.segment(at, length) = (sum / static_cast<float>(n)).unaryExpr([](float v) {
-        return std::copysign(std::sqrt(std::abs(v)), v);
-      });
+      out.segment(at, length) = sum / static_cast<float>(n);
+      if (power)
+        out.segment(at, length) = out.segment(at, length).unaryExpr([](float v) {
+          return std::copysign(std::sqrt(std::abs(v)), v);
+        });
       at += length;
     }
   }

@@ -107,7 +107,8 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
     std::vector<Eigen::VectorXf> frames;
     for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r)
       frames.push_back(f.descriptors.row(r).transpose());
-    const Eigen::VectorXf d = temporalPyramid(frames, f.stamps, 3);
+    // Means of coordinates and speeds as they are (no power normalisation), as the baseline's recipe has it.
+    const Eigen::VectorXf d = temporalPyramid(frames, f.stamps, 3, false);
     if (i == 0)
       x.resize(static_cast<Eigen::Index>(samples.size()), d.size());
     x.row(static_cast<Eigen::Index>(i)) = d.transpose();

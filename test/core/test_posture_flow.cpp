@@ -201,6 +201,9 @@ TEST(TemporalPyramid, MeansOfWholeHalvesAndQuarters)
   const float expected[] = { 2.5f, 1.5f, 3.5f, 1, 2, 3, 4 };  // then sign(v) sqrt(|v|)
   for (int i = 0; i < 7; ++i)
     EXPECT_NEAR(p[i], std::sqrt(expected[i]), 1e-6f) << "part " << i;
+  const Eigen::VectorXf plain = temporalPyramid(frames, stamps, 3, false);  // means only (coordinates)
+  for (int i = 0; i < 7; ++i)
+    EXPECT_NEAR(plain[i], expected[i], 1e-6f) << "part " << i;
 
   // Performed twice as fast (half the time span, same poses): the same descriptor.
   const std::vector<double> fast = { 10.0, 10.5, 11.0, 11.5 };
