@@ -55,6 +55,13 @@ struct PyramidParams
   /** Use the body-geometry block (centroid, extremes, where the flow is and how it turns); models
    *  of format version 2 predate it and load with false. */
   bool geometry = true;
+  /**
+   * What the geometry block is multiplied by. Its coordinates are about ten times the cells'
+   * shares, and the linear classifier standardises all inputs by one overall spread, so at full
+   * weight they swamp the cells (and carry each person's build into the model). 0.1 was chosen on
+   * MSR Action3D's training subjects alone, leave-one-subject-out (docs/evaluation.md).
+   */
+  float geometry_weight = 0.1f;
   int temporal_levels = 3;          ///< pyramid levels: 1 = whole sequence, 2 = + halves, 3 = + quarters
   PyramidClassifier classifier = PyramidClassifier::Linear;
   /** Regularisation of the linear classifier; 0 = chosen by cross-validation inside the training people. */

@@ -6,6 +6,8 @@
 
 #include <boost/crc.hpp>
 
+#include <cmath>
+
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -144,6 +146,7 @@ void putParams(Writer& w, const RecognitionParams& p)
   w.put<std::uint8_t>(static_cast<std::uint8_t>(p.pyramid.mirror));
   // Since format version 3.
   w.put<std::uint8_t>(p.pyramid.geometry);
+  w.put(p.pyramid.geometry_weight);
 }
 
 RecognitionParams getParams(Reader& r, std::uint32_t version)
@@ -197,6 +200,12 @@ RecognitionParams getParams(Reader& r, std::uint32_t version)
   p.pyramid.mirror = static_cast<MirrorMode>(mirror);
   // Version 2 frame descriptors had no geometry block; its models use the cells alone, as before.
   p.pyramid.geometry = version >= 3 ? r.get<std::uint8_t>() != 0 : false;
+  if (version >= 3)
+  {
+    p.pyramid.geometry_weight = r.get<float>();
+    if (!(std::isfinite(p.pyramid.geometry_weight) && p.pyramid.geometry_weight >= 0.0f))
+      r.fail("geometry weight " + std::to_string(p.pyramid.geometry_weight) + " is not a finite value >= 0");
+  }
   return p;
 }
 

@@ -51,7 +51,7 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
           out[at++] = cell[1 + 2 * a] - cell[2 + 2 * a];
     }
   if (params.geometry)
-    out.tail(kGeometryValues) = full.segment<kGeometryValues>(layout.geometryOffset());
+    out.tail(kGeometryValues) = params.geometry_weight * full.segment<kGeometryValues>(layout.geometryOffset());
   return out;
 }
 

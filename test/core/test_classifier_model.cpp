@@ -277,8 +277,8 @@ void rewriteAsVersion(const std::string& path, std::uint32_t version, Erase eras
 }
 
 // A file of format version 2 (posture_flow before the geometry block: its frames had the cells
-// only) still loads and classifies as it did: made from a version 3 file by taking out the one
-// byte version 3 added after the parameters (71 bytes of the paper's, 24 of posture_flow's).
+// only) still loads and classifies as it did: made from a version 3 file by taking out the five
+// bytes version 3 added after the parameters (71 bytes of the paper's, 24 of posture_flow's).
 TEST(ActionModel, VersionTwoFileLoadsWithoutTheGeometryBlock)
 {
   ActionModel m;
@@ -296,7 +296,7 @@ TEST(ActionModel, VersionTwoFileLoadsWithoutTheGeometryBlock)
   m.linear = LinearClassifier::train(m.descriptors, m.labels, 1.0);
   const std::string path = tempPath("v2.model");
   m.save(path);
-  rewriteAsVersion(path, 2, [](std::string& payload) { payload.erase(71 + 24, 1); });
+  rewriteAsVersion(path, 2, [](std::string& payload) { payload.erase(71 + 24, 5); });
   const ActionModel back = ActionModel::load(path);
   EXPECT_FALSE(back.params.pyramid.geometry);
   EXPECT_EQ(back.sequenceLength(), length);
@@ -307,7 +307,7 @@ TEST(ActionModel, VersionTwoFileLoadsWithoutTheGeometryBlock)
   for (int i = 0; i < 5; ++i)
     EXPECT_EQ(back.classifier().classify(m.descriptors.row(i).transpose()).label,
               m.classifier().classify(m.descriptors.row(i).transpose()).label);
-  // The same bytes under version 3 are one byte short: refused, not misread.
+  // The same bytes under version 3 are five bytes short: refused, not misread.
   rewriteAsVersion(path, 3, [](std::string&) {});
   EXPECT_THROW(ActionModel::load(path), ModelError);
   std::remove(path.c_str());
@@ -315,7 +315,7 @@ TEST(ActionModel, VersionTwoFileLoadsWithoutTheGeometryBlock)
 
 // A file of format version 1 (before posture_flow: no recognizer and no linear classifier in it)
 // still loads, as the paper's recognizer. It is made here from a version 3 file by taking out
-// what versions 2 and 3 added: the 25 bytes of posture_flow parameters after the paper's 71 bytes,
+// what versions 2 and 3 added: the 29 bytes of posture_flow parameters after the paper's 71 bytes,
 // and the empty linear classifier at the end (a count and four empty matrices, 72 bytes).
 TEST(ActionModel, VersionOneFileLoadsAsThePapersRecognizer)
 {
@@ -323,7 +323,7 @@ TEST(ActionModel, VersionOneFileLoadsAsThePapersRecognizer)
   const std::string path = tempPath("v1.model");
   m.save(path);
   rewriteAsVersion(path, 1, [](std::string& payload) {
-    payload.erase(71, 25);
+    payload.erase(71, 29);
     payload.erase(payload.size() - 72);
   });
   const ActionModel back = ActionModel::load(path);

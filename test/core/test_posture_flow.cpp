@@ -165,7 +165,8 @@ TEST(TemporalPyramid, SelectsTheParts)
   all.flow = FlowEncoding::Bins;
   EXPECT_EQ(selectFrameFeatures(full, layout, all).size(), 511 + kGeometryValues);
   full.tail<kGeometryValues>().setConstant(0.25f);
-  EXPECT_EQ(selectFrameFeatures(full, layout, all).tail<kGeometryValues>(), full.tail<kGeometryValues>());
+  EXPECT_EQ(selectFrameFeatures(full, layout, all).tail<kGeometryValues>(),
+            all.geometry_weight * full.tail<kGeometryValues>());
   all.geometry = false;
   EXPECT_EQ(selectFrameFeatures(full, layout, all).size(), 511);
   EXPECT_EQ(selectFrameFeatures(full, layout, all).head<7>(), full.head<7>());
@@ -312,6 +313,8 @@ TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
   const ActionModel back = ActionModel::load(path);
   EXPECT_EQ(back.params.recognizer, Recognizer::PostureFlow);
   EXPECT_EQ(back.params.pyramid.c, 0.5);
+  EXPECT_EQ(back.params.pyramid.geometry, m.params.pyramid.geometry);
+  EXPECT_EQ(back.params.pyramid.geometry_weight, m.params.pyramid.geometry_weight);
   EXPECT_EQ(back.linear.weights(), m.linear.weights());
   EXPECT_EQ(back.linear.classes(), m.linear.classes());
   for (int i = 0; i < x.rows(); ++i)
