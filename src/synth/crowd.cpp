@@ -32,6 +32,7 @@ constexpr float kOutside = 0.9f;       // walks in start (walks out end) this fa
 constexpr float kMinWalk = 1.2f;       // a walk across covers at least this (m)
 constexpr float kClearance = 0.7f;     // people keep this far apart, pelvis to pelvis on the floor (m)
 constexpr int kTries = 24;             // candidate places per piece
+constexpr int kWaits = 4;              // waits for the way to clear before a walk goes anyway
 constexpr float kStep = 0.4f;          // an action may be performed up to this far aside (m)
 // What people do.
 constexpr double kEnterLate = 0.3;     // chance that another person than the first walks in later
@@ -108,10 +109,10 @@ public:
                 Candidate{ idle, rootAt(place_, yaw) }, kTries);
       return;
     }
-    const float side = r_.chance(0.5) ? 1.0f : -1.0f;
-    const float depth = float(r_.uniform(2.0, kFarthest - 0.5));
-    place_ = Eigen::Vector2f(depth, side * (depth * slope_ + kOutside));
-    walkTo(spot(), false);
+    // From outside the view on either side, to a spot in view.
+    const std::uint64_t seed = nextSeed();
+    walk([&](int) { return walkBetween(outside(r_.chance(0.5) ? 1.0f : -1.0f, float(r_.uniform(2.0, kFarthest - 0.5))),
+                                       spot(), seed); });
   }
 
   /** Actions, pauses and walks across until the motion is @p length frames long. */
@@ -122,15 +123,20 @@ public:
       act(actions[k % actions.size()]);
       pause();
       if (r_.chance(kWalkAfter))
-        walkTo(spot(), true);
+        walkAcross();
     }
   }
 
-  /** Walks out of the view on the nearer side. */
+  /** Walks out of the view: on the nearer side at about the same distance first, then anywhere. */
   void leave()
   {
-    const float side = place_.y() >= 0 ? 1.0f : -1.0f;
-    walkTo(Eigen::Vector2f(place_.x(), side * (place_.x() * slope_ + kOutside)), false);
+    const Eigen::Vector2f from = place_;
+    const std::uint64_t seed = nextSeed();
+    walk([&](int t) {
+      const float side = (t < 0 ? from.y() >= 0 : r_.chance(0.5)) ? 1.0f : -1.0f;
+      const float depth = t < 0 ? from.x() : std::clamp(from.x() + float(r_.uniform(-1.5, 1.5)), 1.5f, float(kFarthest));
+      return walkBetween(from, outside(side, depth), seed);
+    });
   }
 
   Composed take() { return std::move(out_); }
@@ -145,6 +151,9 @@ private:
   std::uint64_t nextSeed() { return hash64(seed_, ++pieces_, 0x9ece); }
   int frames(double lo, double hi) { return std::max(1, int(std::lround(r_.uniform(lo, hi) * fps_))); }
 
+  /** The point @p depth away, kOutside beyond the edge of the view on the left (@p side 1) or right (-1). */
+  Eigen::Vector2f outside(float side, float depth) const { return Eigen::Vector2f(depth, side * (depth * slope_ + kOutside)); }
+
   /** A spot in view (at kNearest..kFarthest, kSideMargin inside the edge). */
   Eigen::Vector2f spot()
   {
@@ -157,16 +166,21 @@ private:
   float clearance(const Candidate& c, int blend) const
   {
     float least = std::numeric_limits<float>::infinity();
-    const int start = out_.first + int(out_.motion.joints.size()) + blend;
-    for (size_t f = 0; f < c.perf.joints.size(); f += 2)
-    {
-      const int frame = start + int(f);
-      const Eigen::Vector2f p = pelvisOnFloor(c.perf.joints[f]);
-      const Eigen::Vector2f at = (c.root * Eigen::Vector3f(p.x(), p.y(), 0)).head<2>();
+    const int start = out_.first + int(out_.motion.joints.size());
+    const auto check = [&](int frame, const Eigen::Vector2f& at) {
       for (const Composed& o : others_)
         if (o.present(frame))
           least = std::min(least, (o.floorAt(frame) - at).norm());
-    }
+    };
+    const auto placed = [&](size_t f) {
+      const Eigen::Vector2f p = pelvisOnFloor(c.perf.joints[f]);
+      return Eigen::Vector2f((c.root * Eigen::Vector3f(p.x(), p.y(), 0)).head<2>());
+    };
+    // The transition moves the pelvis from where the person stands to where the piece starts.
+    for (int f = 0; f < blend; f += 2)
+      check(start + f, place_ + (placed(0) - place_) * float(f + 1) / float(blend + 1));
+    for (size_t f = 0; f < c.perf.joints.size(); f += 2)
+      check(start + blend + int(f), placed(f));
     return least;
   }
 
@@ -233,42 +247,75 @@ private:
                                     may_move);
     if (!placed.done)
     {
-      walkTo(spot(), true);
+      walkAcross();
       act(action, false);
       return;
     }
     out_.motion.segments.push_back({ action, placed.core_first, placed.core_last });
   }
 
-  /** Stands idle a moment (a step aside if someone comes close); walks away when that is not clear. */
-  void pause()
+  /** Stands idle a moment, a step aside (up to @p reach) if someone comes close; with @p must_clear
+   *  nothing when that is not clear. @return whether it was placed */
+  bool idle(float reach, bool must_clear)
   {
     const Performance idle = performIdle(actor_, nextSeed(), fps_, frames(kPauseMin, kPauseMax));
     const float yaw = std::atan2(out_.motion.forward.back().y(), out_.motion.forward.back().x());
     const Eigen::Vector2f here = place_;
     const auto aside = [&](int) {
-      return Candidate{ idle, rootAt(here + Eigen::Vector2f(float(r_.uniform(-kStep, kStep)), float(r_.uniform(-kStep, kStep))),
-                                     yaw) };
+      const Eigen::Vector2f step(float(r_.uniform(-reach, reach)), float(r_.uniform(-reach, reach)));
+      return Candidate{ idle, rootAt(here + step, yaw) };
     };
-    if (!placeBest(aside, Candidate{ idle, rootAt(here, yaw) }, kTries / 3, true).done)
-      walkTo(spot(), true);
+    return placeBest(aside, Candidate{ idle, rootAt(here, yaw) }, kTries, must_clear).done;
   }
 
-  /** Walks from the current place to @p target (a walk segment); @p retarget: other spots in view
-   *  may be tried for clearance (a walk in or out keeps its end). */
-  void walkTo(const Eigen::Vector2f& target, bool retarget)
+  /** A pause between pieces; walks away when standing here is not clear. */
+  void pause()
+  {
+    if (!idle(kStep, true))
+      walkAcross();
+  }
+
+  /** Waits for the way to clear: the clearest of standing here and stepping up to a metre aside. */
+  void waitAside() { idle(2.5f * kStep, false); }
+
+  /** A walk from @p from to @p to (at least kMinWalk long), facing where it goes. */
+  Candidate walkBetween(const Eigen::Vector2f& from, Eigen::Vector2f to, std::uint64_t seed) const
+  {
+    if ((to - from).norm() < kMinWalk)
+      to = from + kMinWalk * ((to - from).norm() > 1e-3f ? Eigen::Vector2f((to - from).normalized())
+                                                           : Eigen::Vector2f(0, from.y() > 0 ? -1.0f : 1.0f));
+    const Eigen::Vector2f d = to - from;
+    return Candidate{ performWalk(actor_, seed, fps_, d.norm()), rootAt(from, std::atan2(d.y(), d.x())) };
+  }
+
+  /**
+   * The first walk from @p draw (called with -1, then 0, 1, ...) that keeps clear of the others; a
+   * walk segment. When none does, the person waits a moment (walking in: enters later) and tries
+   * again, up to kWaits times, then takes the clearest.
+   */
+  template <typename Draw>
+  void walk(Draw draw)
+  {
+    Placed placed;
+    for (int waited = 0; !placed.done; ++waited)
+    {
+      placed = placeBest(draw, draw(-1), kTries, waited < kWaits);
+      if (placed.done)
+        break;
+      if (out_.motion.joints.empty())
+        out_.first += frames(kPauseMin, kPauseMax);
+      else
+        waitAside();
+    }
+    out_.motion.segments.push_back({ "walk", placed.core_first, placed.core_last });
+  }
+
+  /** Walks across from where the person stands to a spot in view. */
+  void walkAcross()
   {
     const Eigen::Vector2f from = place_;
     const std::uint64_t seed = nextSeed();
-    const auto walk = [&](Eigen::Vector2f to) {
-      if ((to - from).norm() < kMinWalk)
-        to = from + kMinWalk * ((to - from).norm() > 1e-3f ? Eigen::Vector2f((to - from).normalized())
-                                                             : Eigen::Vector2f(0, from.y() > 0 ? -1.0f : 1.0f));
-      const Eigen::Vector2f d = to - from;
-      return Candidate{ performWalk(actor_, seed, fps_, d.norm()), rootAt(from, std::atan2(d.y(), d.x())) };
-    };
-    const Placed placed = placeBest([&](int) { return walk(spot()); }, walk(target), retarget ? kTries : 0);
-    out_.motion.segments.push_back({ "walk", placed.core_first, placed.core_last });
+    walk([&](int) { return walkBetween(from, spot(), seed); });
   }
 
   const Actor& actor_;

@@ -104,7 +104,7 @@ TEST(Crowd, PeopleComeAndGoCrossAndFaceEveryWay)
   for (int number = 1; number <= 3; ++number)
   {
     const CrowdRenderer crowd(scene(3, number));
-    EXPECT_GE(crowd.leastClearance(), 0.45f) << "people walk through each other in scene " << number;
+    EXPECT_GE(crowd.leastClearance(), 0.6f) << "people walk through each other in scene " << number;
     const double slope = crowd.camera().cx / crowd.camera().fx;
     for (size_t k = 0; k < crowd.people().size(); ++k)
     {

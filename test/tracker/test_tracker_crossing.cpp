@@ -78,10 +78,10 @@ std::string describe(const TrackingScores& s)
 
 TEST(TrackerCrossing, TwoPeopleWalkingPastEachOtherKeepTheirIds)
 {
-  // A walks right at 3.0 m, B walks left 0.7 m behind: B disappears behind A as they pass.
-  const std::vector<Walker> walkers = { { Figure{ { -1.4f, 3.0f }, 1.75f }, Eigen::Vector2f(1.2f, 0.0f) },
-                                        { Figure{ { 1.4f, 3.7f }, 1.8f, 40, 200, 40 }, Eigen::Vector2f(-1.2f, 0.0f) } };
-  const CrossingResult r = runCrossing(walkers, 2.3);
+  // A walks right at 3.0 m, B walks left 0.6 m behind: B disappears behind A as they pass.
+  const std::vector<Walker> walkers = { { Figure{ { -1.3f, 3.0f }, 1.75f }, Eigen::Vector2f(1.0f, 0.0f) },
+                                        { Figure{ { 1.3f, 3.6f }, 1.8f, 40, 200, 40 }, Eigen::Vector2f(-1.0f, 0.0f) } };
+  const CrossingResult r = runCrossing(walkers, 2.6);
   EXPECT_GE(r.occluded_frames, 4) << "B should be hidden for a moment (else this tests little)";
   EXPECT_EQ(r.scores.id_switches, 0u) << describe(r.scores);
   EXPECT_EQ(r.scores.predicted_ids, 2u) << "one track per person: " << describe(r.scores);
