@@ -47,7 +47,8 @@ def draw(ax_lat, ax_depth, trajectories, colour_of, counted_only, label_prefix):
         for part in runs(points, 0.2):
             t = [p[0] for p in part]
             for ax, k in ((ax_lat, 2), (ax_depth, 1)):
-                ax.plot(t, [p[k] for p in part], color=colour, lw=0.6, alpha=0.5)
+                ax.plot(t, [p[k] for p in part], color=colour, lw=0.6 if counted_only else 1.8,
+                        alpha=0.5 if counted_only else 1.0)
                 if counted_only:
                     # Bold where the person counts (head seen, enough of them visible).
                     vals = [p[k] if p[3] else float("nan") for p in part]

@@ -45,6 +45,8 @@ constexpr double kPauseMin = 0.4, kPauseMax = 2.0;  // idle between pieces (s)
 constexpr double kBlendMin = 0.4, kBlendMax = 0.8;  // one transition (s)
 constexpr int kActionList = 60;                     // actions drawn per person (cycled if used up)
 constexpr int kHeadWindow = 3;                      // pixels around the head's image point
+constexpr float kHeadTop = 0.071f;  // top of the head above the head joint per metre of height (the renderer: 0.125 m at 1.75 m)
+constexpr double kTopRows = 2.0;   // the top of the head this many rows inside the image (the tracker's border rule)
 
 Eigen::Vector2f pelvisOnFloor(const Skeleton& s)
 {
@@ -573,7 +575,9 @@ std::vector<CrowdTruth> CrowdRenderer::truth(int i, const FrameImages& images) c
     const float z = (to_optical * t.position).z();
     t.visible_area = z > 0 ? float(t.visible_pixels) * z * z / float(cam.fx * cam.fy) : 0.0f;
     const Eigen::Vector3f head = to_optical * s[Joint::Head];
-    if (head.z() >= cam.min_depth && head.z() <= cam.max_depth)
+    const Eigen::Vector3f top = to_optical * (s[Joint::Head] + Eigen::Vector3f(0, 0, kHeadTop * impl_->actors[k].shape.height));
+    const bool top_in_view = top.z() > 0 && cam.fy * top.y() / top.z() + cam.cy >= kTopRows;
+    if (top_in_view && head.z() >= cam.min_depth && head.z() <= cam.max_depth)
     {
       const int u = int(std::lround(cam.fx * head.x() / head.z() + cam.cx));
       const int v = int(std::lround(cam.fy * head.y() / head.z() + cam.cy));

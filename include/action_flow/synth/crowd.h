@@ -47,8 +47,9 @@ struct CrowdPerson
 /**
  * @brief What the camera shows of one person in one frame (the evaluation's truth).
  *
- * A person counts (must be tracked) when their head is seen (their mask id within 3 pixels of the
- * head joint's image point, which lies inside the image and the depth range) and at least
+ * A person counts (must be tracked) when their head is seen (the top of the head at least 2 rows
+ * inside the image, as the tracker requires, and their mask id within 3 pixels of the head joint's
+ * image point, which lies inside the image and the depth range) and at least
  * kCrowdMinVisibleArea square metres of them return depth (visible pixels scaled by depth^2/f^2):
  * a head over a wall of other people is not enough, nor a body whose head is out of the image.
  */
