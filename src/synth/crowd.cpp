@@ -156,6 +156,15 @@ private:
   /** The point @p depth away, kOutside beyond the edge of the view on the left (@p side 1) or right (-1). */
   Eigen::Vector2f outside(float side, float depth) const { return Eigen::Vector2f(depth, side * (depth * slope_ + kOutside)); }
 
+  /** A place up to @p reach from @p p along each axis, kept kNearest..kFarthest from the camera and
+   *  within the room's side walls (kOutside beyond the view's edge at kFarthest). */
+  Eigen::Vector2f nearby(const Eigen::Vector2f& p, float reach)
+  {
+    const float side = float(kFarthest) * slope_ + kOutside;
+    return Eigen::Vector2f(std::clamp(p.x() + float(r_.uniform(-reach, reach)), float(kNearest), float(kFarthest)),
+                           std::clamp(p.y() + float(r_.uniform(-reach, reach)), -side, side));
+  }
+
   /** A spot in view (at kNearest..kFarthest, kSideMargin inside the edge). */
   Eigen::Vector2f spot()
   {
@@ -240,11 +249,7 @@ private:
   {
     const Performance perf = perform(actor_, action, nextSeed(), fps_);
     const Eigen::Vector2f here = place_;
-    const auto aside = [&](int) {
-      Eigen::Vector2f p = here + Eigen::Vector2f(float(r_.uniform(-kStep, kStep)), float(r_.uniform(-kStep, kStep)));
-      p.x() = std::clamp(p.x(), float(kNearest), float(kFarthest));
-      return Candidate{ perf, rootAt(p, float(r_.uniform(0, 2 * kPi))) };
-    };
+    const auto aside = [&](int) { return Candidate{ perf, rootAt(nearby(here, kStep), float(r_.uniform(0, 2 * kPi))) }; };
     const Placed placed = placeBest(aside, Candidate{ perf, rootAt(here, float(r_.uniform(0, 2 * kPi))) }, kTries / 3,
                                     may_move);
     if (!placed.done)
@@ -264,8 +269,7 @@ private:
     const float yaw = std::atan2(out_.motion.forward.back().y(), out_.motion.forward.back().x());
     const Eigen::Vector2f here = place_;
     const auto aside = [&](int) {
-      const Eigen::Vector2f step(float(r_.uniform(-reach, reach)), float(r_.uniform(-reach, reach)));
-      return Candidate{ idle, rootAt(here + step, yaw) };
+      return Candidate{ idle, rootAt(nearby(here, reach), yaw) };
     };
     return placeBest(aside, Candidate{ idle, rootAt(here, yaw) }, kTries, must_clear).done;
   }

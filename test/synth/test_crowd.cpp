@@ -100,7 +100,7 @@ TEST(Crowd, PeopleComeAndGoCrossAndFaceEveryWay)
 {
   int entering = 0, leaving = 0, crossings = 0;
   std::set<int> quadrants;
-  float nearest = 1e9f, farthest = 0;
+  float nearest = 1e9f, farthest = 0, closest = 1e9f;
   for (int number = 1; number <= 3; ++number)
   {
     const CrowdRenderer crowd(scene(3, number));
@@ -130,6 +130,7 @@ TEST(Crowd, PeopleComeAndGoCrossAndFaceEveryWay)
         if (!crowd.present(a, i))
           continue;
         const Eigen::Vector3f pa = centre(crowd.worldSkeleton(a, i));
+        closest = std::min(closest, pa.x());
         if (std::abs(bearing(pa)) < 0.5f)
         {
           nearest = std::min(nearest, pa.x());
@@ -158,6 +159,7 @@ TEST(Crowd, PeopleComeAndGoCrossAndFaceEveryWay)
   EXPECT_GE(crossings, 3) << "people should pass each other in the image";
   EXPECT_EQ(quadrants.size(), 4u) << "people face every way";
   EXPECT_LT(nearest, 1.8f);
+  EXPECT_GE(closest, 0.9f) << "nobody comes nearer to the camera than the nearest spots (1 m)";
   EXPECT_GT(farthest, 4.2f);
 }
 
