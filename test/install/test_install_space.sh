@@ -145,7 +145,7 @@ else fail libraries_resolve_in_prefix "$problems"; fi
 
 # ---- scripts -------------------------------------------------------------------------------------
 start
-USER_SCRIPTS="label_bag.py stream_labels.py plot_report.py plot_timeline.py bench_pipeline_report.py results_table.py validate_report.py"
+USER_SCRIPTS="label_bag.py stream_labels.py plot_report.py plot_timeline.py plot_tracks.py bench_pipeline_report.py results_table.py validate_report.py"
 SOURCE_TREE_SCRIPTS="setup test demo fuzz run_experiments bench_pipeline test_summary.py"
 problems=""
 for s in $USER_SCRIPTS; do
