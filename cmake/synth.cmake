@@ -8,6 +8,7 @@ add_library(action_flow_synth
   src/synth/motion.cpp
   src/synth/samples.cpp
   src/synth/stream.cpp
+  src/synth/crowd.cpp
 )
 target_link_libraries(action_flow_synth action_flow_core ${PCL_LIBRARIES})
 

@@ -517,7 +517,11 @@ Context makeContext(const Actor& actor, Rng& style, Rng& rep)
 
 }  // namespace
 
-Performance perform(const Actor& actor, const std::string& action, std::uint64_t rep_seed, double fps)
+namespace
+{
+// perform(), with the walk's length given (m; 0 = drawn as for the IAS-Lab walk, 1.6-2.2 m).
+Performance performAction(const Actor& actor, const std::string& action, std::uint64_t rep_seed, double fps,
+                          float walk_length)
 {
   const auto& table = actionTable();
   const auto it = table.find(action);
@@ -534,7 +538,9 @@ Performance perform(const Actor& actor, const std::string& action, std::uint64_t
   if (action == "walk")
   {
     walk_speed = float(style.uniform(1.0, 1.35) * c.pace * (1.0 + rep.uniform(-0.05, 0.05)));
-    walk_len = float(rep.uniform(1.6, 2.2));
+    walk_len = float(rep.uniform(1.6, 2.2));  // drawn even when given: the draws that follow stay the same
+    if (walk_length > 0)
+      walk_len = walk_length;
     const double ramp = 0.6;
     core = walk_len / walk_speed + ramp;
     perf.walks = true;
@@ -572,6 +578,20 @@ Performance perform(const Actor& actor, const std::string& action, std::uint64_t
     perf.forward.push_back(posed.forward);
   }
   return perf;
+}
+
+}  // namespace
+
+Performance perform(const Actor& actor, const std::string& action, std::uint64_t rep_seed, double fps)
+{
+  return performAction(actor, action, rep_seed, fps, 0.0f);
+}
+
+Performance performWalk(const Actor& actor, std::uint64_t rep_seed, double fps, float length)
+{
+  if (!(length > 0.0f) || !std::isfinite(length))
+    throw std::invalid_argument("performWalk: the length must be positive, got " + std::to_string(length));
+  return performAction(actor, "walk", rep_seed, fps, length);
 }
 
 Performance performIdle(const Actor& actor, std::uint64_t rep_seed, double fps, int frames)

@@ -4,6 +4,7 @@
 #include <action_flow/synth/synth.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <string>
 #include <vector>
@@ -27,6 +28,10 @@ struct Performance
 /** @brief Generates the frames of @p action performed by @p actor at @p fps; rep_seed varies the repetition. */
 Performance perform(const Actor& actor, const std::string& action, std::uint64_t rep_seed, double fps);
 
+/** @brief The walk of perform(), @p length metres along +x (the IAS-Lab walk draws 1.6-2.2 m).
+ *  @throws std::invalid_argument if length is not positive */
+Performance performWalk(const Actor& actor, std::uint64_t rep_seed, double fps, float length);
+
 /** @brief @p frames frames of the plain idle body (breathing, sway), no action; core = all frames. */
 Performance performIdle(const Actor& actor, std::uint64_t rep_seed, double fps, int frames);
 
@@ -47,6 +52,16 @@ struct StreamMotion
  */
 StreamMotion composeStream(const Actor& actor, const std::vector<std::string>& actions, std::uint64_t stream_seed,
                            double fps);
+
+/** @brief Appends frames [first, first + count) of a piece placed by @p root; returns the index of its frame 0. */
+int appendPlaced(StreamMotion& out, const std::vector<Skeleton>& joints, const std::vector<Eigen::Vector3f>& forward,
+                 const Eigen::Isometry3f& root, int first, int count);
+
+/**
+ * @brief Appends @p n frames from the last pose of @p out to the pose @p to: the joints relative to
+ *        the pelvis and the heading are interpolated, the pelvis moves and the heading turns between them.
+ */
+void blendInto(StreamMotion& out, const Skeleton& to, const Eigen::Vector3f& to_forward, int n);
 
 /** One MSR Action3D recording in the world frame, where it was recorded, at the camera's rate. */
 struct MsrMotion

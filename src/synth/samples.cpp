@@ -86,6 +86,8 @@ std::string SampleSpec::name() const
   }
   if (dataset == "stream")
     return person + "_stream_" + std::to_string(repetition);
+  if (dataset == "crowd")
+    return "crowd" + std::to_string(crowd_people) + "_" + std::to_string(repetition);
   if (dataset == "msr_stream")
   {
     if (segments_file.empty())
@@ -639,7 +641,8 @@ SampleRenderer::SampleRenderer(const SampleSpec& spec, const CameraModel& camera
     impl_->buildMsrStream();
   }
   else
-    throw std::invalid_argument("unknown dataset '" + spec.dataset + "' (expected ias, stream, msr or msr_stream)");
+    throw std::invalid_argument("unknown dataset '" + spec.dataset + "' (expected ias, stream, msr or msr_stream" +
+                                (spec.dataset == "crowd" ? "; a crowd scene is rendered by CrowdRenderer)" : ")"));
   impl_->noise_seed = hash64(spec.seed, hashString(spec.dataset + "/" + spec.name()), 0x4015e);
   impl_->frames = int(impl_->world.size());
   if (spec.max_frames > 0)

@@ -93,7 +93,8 @@ Skeleton transformed(const Skeleton& s, const Eigen::Isometry3f& t)
   return o;
 }
 
-/** Appends frames [first, first + count) of a piece placed by @p root; returns the index of its frame 0. */
+}  // namespace
+
 int appendPlaced(StreamMotion& out, const std::vector<Skeleton>& joints, const std::vector<Eigen::Vector3f>& forward,
                  const Eigen::Isometry3f& root, int first, int count)
 {
@@ -106,11 +107,6 @@ int appendPlaced(StreamMotion& out, const std::vector<Skeleton>& joints, const s
   return start;
 }
 
-/**
- * Appends n frames from the last pose so far to @p to: the joints relative to the pelvis's
- * vertical axis and the body's heading are interpolated, the pelvis moves and the heading turns
- * between them.
- */
 void blendInto(StreamMotion& out, const Skeleton& to, const Eigen::Vector3f& to_forward, int n)
 {
   const Skeleton from = out.joints.back();
@@ -138,6 +134,8 @@ void blendInto(StreamMotion& out, const Skeleton& to, const Eigen::Vector3f& to_
   }
 }
 
+namespace
+{
 /** Appends n frames of the last pose so far, breathing (the upper body lifts, @p period seconds). */
 void holdBreathing(StreamMotion& out, int n, double period, double fps)
 {

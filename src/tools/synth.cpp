@@ -3,6 +3,7 @@
 // docs/synth.md.
 #include "synth_bag.h"
 
+#include <action_flow/synth/crowd.h>
 #include <action_flow/synth/synth.h>
 
 #include <opencv2/core.hpp>
@@ -37,17 +38,21 @@ const char* kUsage = R"(usage: synth [options]
 Renders one bag per sample (in the layout of a Kinect recorded with the ROS OpenNI driver) into
 OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
 
-  --dataset ias|stream|msr|msr_stream   ias: synthetic actors, 15 IAS-Lab actions (default); stream:
+  --dataset ias|stream|msr|msr_stream|crowd   ias: synthetic actors, 15 IAS-Lab actions (default); stream:
                          the same actors performing actions in a row (pNN_stream_R.bag with
                          /ground_truth/action, and pNN_stream_R_segments.csv); msr: MSR Action3D
                          skeletons; msr_stream: an MSR subject's sequences in a row (sNN_msr_stream_R.bag
-                         and sNN_msr_stream_R_segments.csv)
+                         and sNN_msr_stream_R_segments.csv); crowd: several actors at once, entering,
+                         leaving, crossing, facing any way (crowdN_S.bag, crowdN_S_segments.csv with a
+                         person column, crowdN_S_people.csv: each person's position and visibility per frame)
   --skeletons DIR        msr, msr_stream: folder of aAA_sSS_eEE_skeleton3D.txt files (required)
   --segments FILE        msr_stream: --skeletons is one continuous skeleton file in the MSR format and
                          FILE its truth (CSV action,first_frame,last_frame in the file's 15 fps frames);
                          the body is --person's (default s01); the bag is named after the file
   --all-msr              msr: also sequences not in files_used_in_cvpr12_paper.txt
-  --people N             ias, stream: number of actors (default 12)
+  --people N             ias, stream: number of actors (default 12); crowd: people per scene, 2-5 (default 3)
+  --scenes S             crowd: number of scenes (default 2)
+  --seconds T            crowd: length of a scene in seconds (default 60)
   --repetitions N        ias: repetitions of each action (default 3)
   --first-person K       stream: the actors are pK.. (default 1)
   --streams S            stream, msr_stream: streams per actor or subject (default 2)
@@ -160,6 +165,34 @@ private:
   double last_draw_ = -1;
 };
 
+/** Renders a crowd scene: its bag and truth files (or previews); returns its frames, -1 if interrupted. */
+int renderCrowd(const SampleSpec& spec, const fs::path& dir, bool preview, const std::vector<double>& preview_at,
+                const BagOptions& bag, bool skip_existing, Progress& progress, std::vector<std::string>& previews)
+{
+  CrowdRenderer crowd(spec);
+  if (preview)
+    for (double at : preview_at)
+    {
+      const int f = std::min(crowd.frames() - 1, int(at * (crowd.frames() - 1) + 0.5));
+      char buf[16];
+      std::snprintf(buf, sizeof buf, "_f%03d", f);
+      previews.push_back((dir / (spec.name() + buf)).string());
+      writeCrowdPreview(crowd, f, previews.back());
+      progress.frame();
+    }
+  else
+  {
+    const fs::path path = dir / (spec.name() + ".bag");
+    if (skip_existing && fs::exists(path) && fs::exists(dir / (spec.name() + "_people.csv")))
+      return crowd.frames();
+    std::vector<std::vector<CrowdTruth>> truth;
+    if (!writeCrowdBag(crowd, path.string(), bag, &truth, &g_cancel, [&]() { progress.frame(); }))
+      return -1;
+    writeCrowdTruth(crowd, truth, (dir / spec.name()).string());
+  }
+  return crowd.frames();
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -167,7 +200,9 @@ int main(int argc, char** argv)
   std::string dataset = "ias", skeletons, segments, out = "synth_data", montage;
   std::string only_person, only_action;
   int only_rep = 0, every = 1, people = 12, repetitions = 3, limit = 0, max_frames = 0, jobs = 1;
-  int first_person = 1, streams = 2, stream_actions = 8;
+  int first_person = 1, streams = 2, stream_actions = 8, scenes = 2;
+  double seconds = 60.0;
+  bool people_given = false;
   std::uint64_t seed = 1;
   bool all_msr = false, skip_existing = false, list = false, preview = false, quiet = false;
   std::vector<double> preview_at;
@@ -194,7 +229,11 @@ int main(int argc, char** argv)
     else if (a == "--all-msr")
       all_msr = true;
     else if (a == "--people")
-      people = toInt(a, value(), 1, 99);
+      people = toInt(a, value(), 1, 99), people_given = true;
+    else if (a == "--scenes")
+      scenes = toInt(a, value(), 1, 999);
+    else if (a == "--seconds")
+      seconds = toInt(a, value(), 2, 3600);
     else if (a == "--repetitions")
       repetitions = toInt(a, value(), 1, 99);
     else if (a == "--first-person")
@@ -317,8 +356,10 @@ int main(int argc, char** argv)
         specs = msrStreamSamples(skeletons, subjects, streams, stream_actions, seed);
       }
     }
+    else if (dataset == "crowd")
+      specs = crowdSamples(people_given ? people : 3, scenes, seconds, seed);
     else
-      fail("--dataset must be ias, stream, msr or msr_stream, got '" + dataset + "'");
+      fail("--dataset must be ias, stream, msr, msr_stream or crowd, got '" + dataset + "'");
     if (!segments.empty() && dataset != "msr_stream")
       fail("--segments is for --dataset msr_stream (a continuous skeleton file)");
   }
@@ -378,6 +419,14 @@ int main(int argc, char** argv)
       const SampleSpec& spec = selected[k];
       try
       {
+        if (spec.dataset == "crowd")
+        {
+          frames_of[k] = renderCrowd(spec, dir, preview, preview_at, bag, skip_existing, progress, preview_files[k]);
+          if (frames_of[k] < 0)
+            return;  // interrupted
+          progress.sample();
+          continue;
+        }
         SampleRenderer sample(spec);
         if (preview)
         {

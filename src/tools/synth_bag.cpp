@@ -3,6 +3,8 @@
 
 #include "guarded_bag.h"
 
+#include <action_flow/files.h>
+
 #include <geometry_msgs/TransformStamped.h>
 #include <pcl_conversions/pcl_conversions.h>
 #include <rosbag/bag.h>
@@ -114,8 +116,24 @@ std::vector<std::pair<std::string, std::string>> bagTopics(const BagOptions& o, 
   return t;
 }
 
-bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const BagOptions& o,
-                    const std::atomic<bool>* cancel, const std::function<void()>& on_frame)
+namespace
+{
+/** What a bag is written from: a single-person sample or a crowd scene. */
+struct BagSource
+{
+  const CameraModel& camera;
+  const SceneRenderer& scene;
+  int frames;
+  std::function<double(int)> stamp;
+  std::function<void(int, FrameImages&)> render;
+  /** openni_tracker's users in frame i: user number and joints (optical frame). */
+  std::function<std::vector<std::pair<int, Skeleton>>(int)> users;
+  /** The ground-truth action of frame i on options.action_topic; empty: no such topic. */
+  std::function<std::string(int)> action;
+};
+
+bool writeBag(const BagSource& src, const std::string& path, const BagOptions& o, const std::atomic<bool>* cancel,
+              const std::function<void()>& on_frame)
 {
   rosbag::CompressionType compression;
   if (o.compression == "none")
@@ -130,8 +148,7 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
     throw std::runtime_error("jpeg quality must be 1..100 and png level 0..9");
 
   const std::string tmp = path + ".tmp";
-  const bool stream = sample.spec().dataset == "stream" || sample.spec().dataset == "msr_stream";
-  const CameraModel& cam = sample.camera();
+  const CameraModel& cam = src.camera;
   const int w = cam.width, h = cam.height;
   try
   {
@@ -158,7 +175,7 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
 
     FrameImages im;
     Cloud cloud;
-    for (int i = 0; i < sample.frames(); ++i)
+    for (int i = 0; i < src.frames; ++i)
     {
       if (cancel && cancel->load())
       {
@@ -166,8 +183,8 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
         std::remove(tmp.c_str());
         return false;
       }
-      const ros::Time stamp(sample.stamp(i));
-      sample.renderImages(i, im);
+      const ros::Time stamp(src.stamp(i));
+      src.render(i, im);
 
       std_msgs::Header header;
       header.stamp = stamp;
@@ -220,29 +237,29 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
       tf.transforms.push_back(transform(stamp, "camera_link", "camera_depth_frame", zero, id));
       tf.transforms.push_back(transform(stamp, "camera_depth_frame", "camera_depth_optical_frame", zero, optical));
       tf.transforms.push_back(transform(stamp, "camera_link", "openni_depth_frame", zero, id));
-      // openni_tracker's frames: user 1's joints under openni_depth_frame (x forward, y left, z up).
-      const Skeleton sk = sample.skeleton(i);
-      for (int k = 0; k < kJointCount; ++k)
-      {
-        const Eigen::Vector3f& p = sk.joints[k];
-        tf.transforms.push_back(transform(stamp, "openni_depth_frame", jointName(Joint(k)) + "_1",
-                                          Eigen::Vector3f(p.z(), -p.x(), -p.y()), id));
-      }
+      // openni_tracker's frames: each user's joints under openni_depth_frame (x forward, y left, z up).
+      for (const auto& [user, sk] : src.users(i))
+        for (int k = 0; k < kJointCount; ++k)
+        {
+          const Eigen::Vector3f& p = sk.joints[k];
+          tf.transforms.push_back(transform(stamp, "openni_depth_frame", jointName(Joint(k)) + "_" + std::to_string(user),
+                                            Eigen::Vector3f(p.z(), -p.x(), -p.y()), id));
+        }
       bag.write(o.tf_topic, stamp, tf);
 
       if (o.points)
       {
-        sample.scene().toCloud(im, cloud);
-        cloud.header.stamp = std::uint64_t(std::llround(sample.stamp(i) * 1e6));
+        src.scene.toCloud(im, cloud);
+        cloud.header.stamp = std::uint64_t(std::llround(src.stamp(i) * 1e6));
         sensor_msgs::PointCloud2 msg;
         pcl::toROSMsg(cloud, msg);
         msg.header = header;
         bag.write(o.points_topic, stamp, msg);
       }
-      if (stream)
+      if (src.action)
       {
         std_msgs::String action;
-        action.data = sample.actionAt(i);
+        action.data = src.action(i);
         bag.write(o.action_topic, stamp, action);
       }
       if (on_frame)
@@ -263,39 +280,25 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
   return true;
 }
 
-void writeSegmentsCsv(const SampleRenderer& sample, const std::string& path)
+/** Rows "<prefix>action,first_frame,last_frame,start,end" of @p segments (stamps in seconds). */
+std::string segmentRows(const std::vector<StreamSegment>& segments, const std::function<double(int)>& stamp,
+                        const std::string& prefix)
 {
-  const std::string tmp = path + ".tmp";
+  std::string rows;
+  char buf[64];
+  for (const StreamSegment& s : segments)
   {
-    std::ofstream csv(tmp);
-    csv << "action,first_frame,last_frame,start,end\n";
-    char buf[64];
-    for (const StreamSegment& s : sample.segments())
-    {
-      std::snprintf(buf, sizeof buf, ",%d,%d,%.6f,%.6f\n", s.first, s.last, sample.stamp(s.first), sample.stamp(s.last));
-      csv << s.action << buf;
-    }
-    csv.close();
-    if (!csv)
-    {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(tmp + ": cannot write the segments");
-    }
+    std::snprintf(buf, sizeof buf, ",%d,%d,%.6f,%.6f\n", s.first, s.last, stamp(s.first), stamp(s.last));
+    rows += prefix + s.action + buf;
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-  {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": cannot rename the segments into place");
-  }
+  return rows;
 }
 
-void writePreview(const SampleRenderer& sample, int i, const std::string& prefix)
+/** Writes <prefix>_color.png and <prefix>_depth.png of rendered images. */
+void writePreviewImages(const FrameImages& im, const CameraModel& cam, const std::string& prefix)
 {
-  FrameImages im;
-  sample.renderImages(i, im);
   const int w = im.width, h = im.height;
   cv::Mat bgr(h, w, CV_8UC3), grey(h, w, CV_8UC1);
-  const CameraModel& cam = sample.camera();
   for (int k = 0; k < w * h; ++k)
   {
     bgr.data[3 * k] = im.rgb[3 * k + 2];
@@ -309,6 +312,84 @@ void writePreview(const SampleRenderer& sample, int i, const std::string& prefix
   for (const auto& [suffix, m] : { std::make_pair("_color.png", bgr), std::make_pair("_depth.png", grey) })
     if (!cv::imwrite(prefix + suffix, m, { cv::IMWRITE_PNG_COMPRESSION, 9 }))
       throw std::runtime_error(prefix + suffix + ": cannot write");
+}
+}  // namespace
+
+bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const BagOptions& options,
+                    const std::atomic<bool>* cancel, const std::function<void()>& on_frame)
+{
+  BagSource src{ sample.camera(), sample.scene(), sample.frames(), [&](int i) { return sample.stamp(i); },
+                 [&](int i, FrameImages& im) { sample.renderImages(i, im); },
+                 [&](int i) { return std::vector<std::pair<int, Skeleton>>{ { 1, sample.skeleton(i) } }; }, {} };
+  if (sample.spec().dataset == "stream" || sample.spec().dataset == "msr_stream")
+    src.action = [&](int i) { return sample.actionAt(i); };
+  return writeBag(src, path, options, cancel, on_frame);
+}
+
+bool writeCrowdBag(const CrowdRenderer& crowd, const std::string& path, const BagOptions& options,
+                   std::vector<std::vector<CrowdTruth>>* truth, const std::atomic<bool>* cancel,
+                   const std::function<void()>& on_frame)
+{
+  if (truth)
+    truth->assign(size_t(crowd.frames()), {});
+  const auto users = [&](int i) {
+    std::vector<std::pair<int, Skeleton>> out;
+    for (size_t k = 0; k < crowd.people().size(); ++k)
+      if (crowd.present(k, i))
+        out.emplace_back(crowd.people()[k].mask_id, crowd.skeleton(k, i));
+    return out;
+  };
+  const auto render = [&](int i, FrameImages& im) {
+    crowd.renderImages(i, im);
+    if (truth)
+      (*truth)[size_t(i)] = crowd.truth(i, im);
+  };
+  const BagSource src{ crowd.camera(), crowd.scene(), crowd.frames(), [&](int i) { return crowd.stamp(i); }, render,
+                       users, {} };
+  return writeBag(src, path, options, cancel, on_frame);
+}
+
+void writeSegmentsCsv(const SampleRenderer& sample, const std::string& path)
+{
+  writeTextAtomically(path, "action,first_frame,last_frame,start,end\n" +
+                                segmentRows(sample.segments(), [&](int i) { return sample.stamp(i); }, ""));
+}
+
+void writeCrowdTruth(const CrowdRenderer& crowd, const std::vector<std::vector<CrowdTruth>>& truth,
+                     const std::string& prefix)
+{
+  if (truth.size() != size_t(crowd.frames()))
+    throw std::invalid_argument("writeCrowdTruth: one truth list per frame expected");
+  std::string segments = "person,action,first_frame,last_frame,start,end\n";
+  for (const CrowdPerson& p : crowd.people())
+    segments += segmentRows(p.segments, [&](int i) { return crowd.stamp(i); }, p.actor + ",");
+  std::string people = "frame,stamp,person,mask_id,x,y,z,yaw,visible_pixels,visible_area,head_visible,counted\n";
+  char buf[160];
+  for (size_t f = 0; f < truth.size(); ++f)
+    for (const CrowdTruth& t : truth[f])
+    {
+      std::snprintf(buf, sizeof buf, "%zu,%.6f,%s,%d,%.4f,%.4f,%.4f,%.4f,%d,%.4f,%d,%d\n", f, crowd.stamp(int(f)),
+                    crowd.people()[size_t(t.mask_id - 1)].actor.c_str(), int(t.mask_id), t.position.x(),
+                    t.position.y(), t.position.z(), t.yaw, t.visible_pixels, t.visible_area, int(t.head_visible),
+                    int(t.counted));
+      people += buf;
+    }
+  writeTextAtomically(prefix + "_segments.csv", segments);
+  writeTextAtomically(prefix + "_people.csv", people);
+}
+
+void writePreview(const SampleRenderer& sample, int i, const std::string& prefix)
+{
+  FrameImages im;
+  sample.renderImages(i, im);
+  writePreviewImages(im, sample.camera(), prefix);
+}
+
+void writeCrowdPreview(const CrowdRenderer& crowd, int i, const std::string& prefix)
+{
+  FrameImages im;
+  crowd.renderImages(i, im);
+  writePreviewImages(im, crowd.camera(), prefix);
 }
 
 }  // namespace synth

@@ -2,6 +2,7 @@
 // and preview images. Used by the synth executable and its tests.
 #pragma once
 
+#include <action_flow/synth/crowd.h>
 #include <action_flow/synth/synth.h>
 
 #include <atomic>
@@ -60,6 +61,30 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
  * @throws std::runtime_error (naming the file) if it cannot be written
  */
 void writeSegmentsCsv(const SampleRenderer& sample, const std::string& path);
+
+/**
+ * @brief Renders every frame of a crowd scene into the bag @p path, as writeSampleBag does (one
+ *        openni_tracker user per person present, numbered by mask id; no action topic: the
+ *        people's actions are in the segments CSV). @p truth, if given, gets each frame's
+ *        CrowdRenderer::truth.
+ */
+bool writeCrowdBag(const CrowdRenderer& crowd, const std::string& path, const BagOptions& options,
+                   std::vector<std::vector<CrowdTruth>>* truth = nullptr, const std::atomic<bool>* cancel = nullptr,
+                   const std::function<void()>& on_frame = {});
+
+/**
+ * @brief Writes a crowd scene's truth beside its bag (each written whole or not at all):
+ *        <prefix>_segments.csv, header "person,action,first_frame,last_frame,start,end" (the
+ *        stream's columns after the actor's id), and <prefix>_people.csv, one row per person present
+ *        per frame: "frame,stamp,person,mask_id,x,y,z,yaw,visible_pixels,visible_area,head_visible,counted"
+ *        (world position and yaw as in CrowdTruth).
+ * @throws std::invalid_argument if @p truth has not one entry per frame; std::runtime_error if a file cannot be written
+ */
+void writeCrowdTruth(const CrowdRenderer& crowd, const std::vector<std::vector<CrowdTruth>>& truth,
+                     const std::string& prefix);
+
+/** @brief writePreview of a crowd scene's frame @p i. */
+void writeCrowdPreview(const CrowdRenderer& crowd, int i, const std::string& prefix);
 
 /** @brief Writes <prefix>_color.png and <prefix>_depth.png (depth 0.5-4.5 m as grey, black = none) of frame @p i. */
 void writePreview(const SampleRenderer& sample, int i, const std::string& prefix);

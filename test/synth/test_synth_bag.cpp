@@ -256,3 +256,55 @@ TEST(SynthBag, StreamHasTheGroundTruthActionAndTheSegmentsCsv)
   EXPECT_EQ(rows, sample.segments().size());
   EXPECT_THROW(writeSegmentsCsv(sample, (dir.path / "no_such_dir" / "x.csv").string()), std::runtime_error);
 }
+
+TEST(SynthBag, ACrowdBagHasEveryonesJointsAndTheTruthFiles)
+{
+  TempDir dir;
+  SampleSpec spec = crowdSamples(2, 1, 60.0).back();
+  spec.max_frames = 6;
+  const CrowdRenderer crowd(spec);
+  const fs::path path = dir.path / "crowd2_1.bag";
+  std::vector<std::vector<CrowdTruth>> truth;
+  ASSERT_TRUE(writeCrowdBag(crowd, path.string(), BagOptions(), &truth));
+  ASSERT_EQ(truth.size(), 6u);
+  writeCrowdTruth(crowd, truth, (dir.path / "crowd2_1").string());
+
+  // openni_tracker's frames of every person present, numbered by mask id; no action topic.
+  rosbag::Bag bag(path.string(), rosbag::bagmode::Read);
+  int frames = 0;
+  for (const rosbag::MessageInstance& m : rosbag::View(bag))
+  {
+    EXPECT_NE(m.getTopic(), BagOptions().action_topic);
+    const auto tf = m.instantiate<tf2_msgs::TFMessage>();
+    if (!tf)
+      continue;
+    std::set<std::string> heads;
+    for (const auto& t : tf->transforms)
+      if (t.child_frame_id.rfind("head_", 0) == 0)
+        heads.insert(t.child_frame_id);
+    std::set<std::string> expected;
+    for (const CrowdPerson& p : crowd.people())
+      if (crowd.present(size_t(p.mask_id - 1), frames))
+        expected.insert("head_" + std::to_string(p.mask_id));
+    EXPECT_EQ(heads, expected) << "frame " << frames;
+    ++frames;
+  }
+  EXPECT_EQ(frames, 6);
+
+  // One people row per person present per frame, as the truth; the segments' header has the person.
+  std::ifstream people(dir.path / "crowd2_1_people.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(people, line));
+  EXPECT_EQ(line, "frame,stamp,person,mask_id,x,y,z,yaw,visible_pixels,visible_area,head_visible,counted");
+  size_t rows = 0, expected_rows = 0;
+  while (std::getline(people, line))
+    ++rows;
+  for (const auto& f : truth)
+    expected_rows += f.size();
+  EXPECT_EQ(rows, expected_rows);
+  EXPECT_GT(rows, 0u);
+  std::ifstream segments(dir.path / "crowd2_1_segments.csv");
+  ASSERT_TRUE(std::getline(segments, line));
+  EXPECT_EQ(line, "person,action,first_frame,last_frame,start,end");
+  EXPECT_THROW(writeCrowdTruth(crowd, {}, (dir.path / "x").string()), std::invalid_argument);
+}

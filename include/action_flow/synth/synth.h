@@ -50,8 +50,8 @@ const std::vector<std::string>& iasLabActions();
  */
 struct SampleSpec
 {
-  /** "ias" (synthetic actors), "stream" (their streams), "msr" (MSR Action3D skeletons) or
-   *  "msr_stream" (MSR motion in a row). */
+  /** "ias" (synthetic actors), "stream" (their streams), "msr" (MSR Action3D skeletons),
+   *  "msr_stream" (MSR motion in a row) or "crowd" (several people at once: CrowdRenderer). */
   std::string dataset = "ias";
   std::string person;           ///< "p01".."pNN" (ias, stream) or "s01".."s10" (msr, msr_stream)
   std::string action;           ///< an iasLabActions() name, an msrActions() name, or "stream"
@@ -71,11 +71,15 @@ struct SampleSpec
   int stream_actions = 8;
   /** msr_stream from the folder: the msrActions() its sequences are drawn from (empty: all 20). */
   std::vector<std::string> stream_pool;
+  /** crowd (CrowdRenderer, crowd.h): the number of people (2..5; repetition is the scene's number). */
+  int crowd_people = 3;
+  /** crowd: the scene's length (s). */
+  double crowd_seconds = 60.0;
 
   /**
    * @brief "p01_wave_1" / "a01_s01_e01" / "p01_stream_1" / "s01_msr_stream_1" (a continuous file:
-   *        its file name without extension, file-name safe): unique within a dataset, used as the
-   *        bag's base name.
+   *        its file name without extension, file-name safe) / "crowd3_1" (people, scene): unique
+   *        within a dataset, used as the bag's base name.
    */
   std::string name() const;
 };
