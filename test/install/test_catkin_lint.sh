@@ -10,7 +10,7 @@ SRC="$(cd "${1:?package folder}" && pwd)"
 RESULT="${2:?result file}"
 export PATH=/usr/bin:/bin:$PATH
 mkdir -p "$(dirname "$RESULT")"
-TMP="$(mktemp -d /tmp/action_flow_lint.XXXXXX)"
+TMP="$(mktemp -d -t action_flow_lint.XXXXXX)"
 trap 'rm -rf "$TMP"' EXIT
 
 status=pass

@@ -24,7 +24,7 @@ RESULT="${2:?result file}"
 SRC="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 export PATH=/usr/bin:/bin:$PATH
 
-TMP="$(mktemp -d /tmp/action_flow_install.XXXXXX)"
+TMP="$(mktemp -d -t action_flow_install.XXXXXX)"
 INSTALL_PREFIX=$(sed -n 's/^CMAKE_INSTALL_PREFIX:PATH=//p' "$BUILD/CMakeCache.txt")
 PREFIX="$TMP/destdir${INSTALL_PREFIX:-/usr/local}"
 CASES="$TMP/cases.tsv"
