@@ -545,11 +545,7 @@ void CrowdRenderer::render(int i, Cloud& out, std::vector<std::uint8_t>* mask) c
 {
   thread_local FrameImages im;  // reused: see SceneRenderer::render
   renderImages(i, im);
-  impl_->scene->toCloud(im, out);
-  out.header.stamp = std::uint64_t(std::llround(stamp(i) * 1e6));
-  out.header.seq = std::uint32_t(i);
-  if (mask)
-    *mask = im.mask;
+  impl_->scene->toFrameCloud(im, stamp(i), i, out, mask);
 }
 
 std::vector<CrowdTruth> CrowdRenderer::truth(int i, const FrameImages& images) const

@@ -707,11 +707,7 @@ void SampleRenderer::render(int i, Cloud& out, std::vector<std::uint8_t>* mask) 
 {
   thread_local FrameImages im;  // reused: see SceneRenderer::render
   renderImages(i, im);
-  impl_->scene->toCloud(im, out);
-  out.header.stamp = std::uint64_t(std::llround(stamp(i) * 1e6));
-  out.header.seq = std::uint32_t(i);
-  if (mask)
-    *mask = im.mask;
+  impl_->scene->toFrameCloud(im, stamp(i), i, out, mask);
 }
 
 }  // namespace synth

@@ -747,6 +747,16 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
   }
 }
 
+void SceneRenderer::toFrameCloud(const FrameImages& images, double stamp, int frame, Cloud& cloud,
+                                 std::vector<std::uint8_t>* mask) const
+{
+  toCloud(images, cloud);
+  cloud.header.stamp = std::uint64_t(std::llround(stamp * 1e6));
+  cloud.header.seq = std::uint32_t(frame);
+  if (mask)
+    *mask = images.mask;
+}
+
 void SceneRenderer::toCloud(const FrameImages& im, Cloud& cloud) const
 {
   const CameraModel& cam = impl_->cam;

@@ -160,6 +160,10 @@ public:
 
   /** @brief Organized cloud (optical frame, NaN where no depth) from rendered images. */
   void toCloud(const FrameImages& images, Cloud& cloud) const;
+  /** @brief toCloud for frame @p frame of a sequence: stamped (@p stamp s, as PCL's microseconds) and
+   *         numbered, and the images' person ids copied into @p mask when given. */
+  void toFrameCloud(const FrameImages& images, double stamp, int frame, Cloud& cloud,
+                    std::vector<std::uint8_t>* mask) const;
 
   const CameraModel& camera() const;
   /** @brief Noise-free depth of the empty room (m, +inf where nothing is hit), row-major. */
