@@ -220,9 +220,10 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
       tf.transforms.push_back(transform(stamp, "camera_link", "camera_depth_frame", zero, id));
       tf.transforms.push_back(transform(stamp, "camera_depth_frame", "camera_depth_optical_frame", zero, optical));
       tf.transforms.push_back(transform(stamp, "camera_link", "openni_depth_frame", zero, id));
-      // openni_tracker's frames: user 1's joints under openni_depth_frame (x forward, y left, z up).
+      // openni_tracker's frames: user 1's joints under openni_depth_frame (x forward, y left, z up);
+      // none in a scene without a person.
       const Skeleton sk = sample.skeleton(i);
-      for (int k = 0; k < kJointCount; ++k)
+      for (int k = 0; k < kJointCount * sample.bodies(); ++k)
       {
         const Eigen::Vector3f& p = sk.joints[k];
         tf.transforms.push_back(transform(stamp, "openni_depth_frame", jointName(Joint(k)) + "_1",
