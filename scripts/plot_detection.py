@@ -59,9 +59,9 @@ def counts(ax, table, title, colour):
 
 def summary(report):
     o = report["overall"]
-    return ("people detection, default parameters: %d clutter scenes, %d frames, gate %.2f m: precision %.3f, "
+    return ("people detection, %s: %d clutter scenes, %d frames, gate %.2f m: precision %.3f, "
             "recall %.3f (%d found, %d false, %d missed)" % (
-                len(report["scenes"]), o["frames"], report["gate"], value(o["precision"]), value(o["recall"]),
+                report["tracker"], len(report["scenes"]), o["frames"], report["gate"], value(o["precision"]), value(o["recall"]),
                 o["true_positives"], o["false_positives"], o["misses"]))
 
 

@@ -5,6 +5,7 @@
 
 #include <action_flow/files.h>
 #include <action_flow/synth/clutter.h>
+#include <action_flow/tracker_detector.h>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
@@ -321,7 +322,7 @@ json writeExamples(const std::vector<SceneOutcome>& scenes, const std::string& d
 
 const std::vector<std::string>& detectionOptions()
 {
-  static const std::vector<std::string> o = { "scenes", "gate" };
+  static const std::vector<std::string> o = { "scenes", "gate", "remove-walls", "max-head-ratio", "min-free-fraction" };
   return o;
 }
 
@@ -330,6 +331,8 @@ const char* detectionUsage()
   return "detection protocol (--protocol detection: the people tracker, default parameters, on cluttered rooms):\n"
          "  --scenes N                      scenes of each kind (default 10; synth --dataset clutter)\n"
          "  --gate M                        a detection within M metres of a person on the floor finds them (0.5)\n"
+         "  --remove-walls 0|1, --max-head-ratio R, --min-free-fraction F\n"
+         "                                  change one person-likeness cue from its default (to measure it)\n"
          "  --seed N, --jobs N, --no-plots  as above\n";
 }
 
@@ -341,7 +344,14 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
     throw UsageError("--gate must be in (0, 5) m");
   const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 2147483647));
   const int jobs = jobsOption(args);
-  const TrackerParams params;  // the defaults, as the pipeline runs them on rendered data
+  TrackerParams params;  // the defaults, as the pipeline runs them on rendered data, unless a cue is changed
+  params.remove_walls = args.integer("remove-walls", params.remove_walls, 0, 1) != 0;
+  params.max_head_ratio = static_cast<float>(args.number("max-head-ratio", params.max_head_ratio));
+  params.min_free_fraction = static_cast<float>(args.number("min-free-fraction", params.min_free_fraction));
+  validateTrackerParams(params);
+  const bool defaults = params.remove_walls == TrackerParams().remove_walls &&
+                        params.max_head_ratio == TrackerParams().max_head_ratio &&
+                        params.min_free_fraction == TrackerParams().min_free_fraction;
   const std::vector<synth::SampleSpec> specs = synth::clutterSamples(per_kind, seed);
   std::fprintf(stderr, "evaluate: detection on %zu clutter scenes (%d of each kind), gate %.2f m\n", specs.size(),
                per_kind, gate);
@@ -375,7 +385,10 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
                   { "gate", gate },
                   { "seed", seed },
                   { "scenes_per_kind", per_kind },
-                  { "tracker", "PeopleTracker, default TrackerParams (no HOG)" },
+                  { "tracker", defaults ? "PeopleTracker, default TrackerParams (no HOG)" : "PeopleTracker, changed cues" },
+                  { "remove_walls", params.remove_walls },
+                  { "max_head_ratio", params.max_head_ratio },
+                  { "min_free_fraction", params.min_free_fraction },
                   { "overall", countsJson(all) },
                   { "by_kind", tallyJson(by_kind) },
                   { "by_camera_height", tallyJson(by_height) },
@@ -387,9 +400,9 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
                   { "examples", writeExamples(scenes, dir) },
                   { "scenes", per_scene } };
   writeTextAtomically(dir + "/detection.json", report.dump(2) + "\n");
-  std::printf("detection, default parameters, %zu scenes, %ld frames: precision %.3f, recall %.3f (%ld true, %ld false, "
+  std::printf("detection, %s, %zu scenes, %ld frames: precision %.3f, recall %.3f (%ld true, %ld false, "
               "%ld missed)\n",
-              scenes.size(), all.frames, all.precision(), all.recall(), all.true_positives, all.false_positives,
+              defaults ? "default parameters" : "changed cues", scenes.size(), all.frames, all.precision(), all.recall(), all.true_positives, all.false_positives,
               all.misses);
   for (const auto& [k, c] : by_kind)
     std::printf("  %-10s precision %.3f recall %.3f  (%ld false, %ld missed, %ld frames)\n", k.c_str(), c.precision(),
