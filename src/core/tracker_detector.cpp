@@ -460,7 +460,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
     WallParams wp;
     wp.voxel = params_.detection_voxel_size;
     wp.inlier_distance = std::max(0.06f, params_.detection_voxel_size);
-    walls = findWalls(*above, up, origin, wp);
+    walls = findWalls(*above, ground, origin, wp);
     std::size_t kept = 0;
     for (std::size_t i = 0; i < above->size(); ++i)
       if (!onAWall(walls, (*above)[i].getVector3fMap()))

@@ -12,8 +12,8 @@ constexpr std::size_t kRansacSample = 1000;  // RANSAC scores its hypotheses on 
 constexpr int kIterations = 300;
 constexpr float kBehind = 0.15f;  // points this far behind a wall (m) count against it
 
-// The spread of values between their 2nd and 98th percentiles.
-float spread(std::vector<float> v)
+// The spread of values between their 2nd and 98th percentiles; @p top: the 98th.
+float spread(std::vector<float> v, float* top = nullptr)
 {
   if (v.size() < 2)
     return 0.0f;
@@ -21,6 +21,8 @@ float spread(std::vector<float> v)
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(lo), v.end());
   const float a = v[lo];
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(hi), v.end());
+  if (top)
+    *top = v[hi];
   return v[hi] - a;
 }
 
@@ -59,9 +61,10 @@ bool bestPlane(const Cloud& points, const pcl::Indices& sample, const Eigen::Vec
 }
 }  // namespace
 
-std::vector<Eigen::Vector4f> findWalls(const Cloud& points, const Eigen::Vector3f& up, const Eigen::Vector3f& camera,
+std::vector<Eigen::Vector4f> findWalls(const Cloud& points, const Eigen::Vector4f& ground, const Eigen::Vector3f& camera,
                                        const WallParams& p)
 {
+  const Eigen::Vector3f up = ground.head<3>();
   std::vector<Eigen::Vector4f> walls;
   std::mt19937 rng(12345);  // deterministic: the same cloud, the same walls
   pcl::Indices remaining(points.size());
@@ -96,10 +99,11 @@ std::vector<Eigen::Vector4f> findWalls(const Cloud& points, const Eigen::Vector3
     for (const auto i : inliers)
     {
       s.push_back(along.dot(points[i].getVector3fMap()));
-      h.push_back(up.dot(points[i].getVector3fMap()));
+      h.push_back(up.dot(points[i].getVector3fMap()) + ground[3]);
     }
-    const float width = spread(s), height = spread(h);
-    if (width < p.min_width || height < p.min_height ||
+    float top = 0.0f;
+    const float width = spread(s), height = spread(h, &top);
+    if (width < p.min_width || height < p.min_height || top < p.min_top ||
         static_cast<float>(inliers.size()) * p.voxel * p.voxel < p.min_cover * width * height)
       continue;
     // A wall bounds the room: (almost) nothing lies behind it. A plane strung through the room has

@@ -169,19 +169,22 @@ TEST(TrackerWalls, FindsTheRoomsWallsAndNoFurniture)
   grid.setInputCloud(above.makeShared());
   grid.setLeafSize(0.06f, 0.06f, 0.06f);
   grid.filter(voxels);
-  const auto walls = findWalls(voxels, floor.head<3>(), Eigen::Vector3f::Zero());
+  const auto walls = findWalls(voxels, floor, Eigen::Vector3f::Zero());
   ASSERT_FALSE(walls.empty());
   bool back = false;
   for (const auto& w : walls)
   {
-    // Each is one of the room's walls: its points (world) at x = 4.3 or y = 2.3 (or y = -2.1).
-    const Eigen::Vector3f n = world.linear() * w.head<3>();  // world normal, toward the camera
-    const Eigen::Vector3f on = world * (-w[3] * w.head<3>());  // the plane's point nearest the camera
-    const bool is_back = std::abs(n.x() + 1.0f) < 0.03f && std::abs(on.x() - room.back_wall) < 0.04f;
-    const bool is_side = std::abs(std::abs(n.y()) - 1.0f) < 0.03f &&
-                         (std::abs(on.y() - room.left_wall) < 0.04f || std::abs(on.y() - room.right_wall) < 0.04f);
-    EXPECT_TRUE(is_back || is_side) << "not a wall of the room: normal " << n.transpose() << ", through "
-                                    << on.transpose();
+    // Each is one of the room's walls: it passes through two points of that wall in view (world),
+    // within 5 cm.
+    const auto through = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+      const Eigen::Isometry3f optical = world.inverse();
+      return std::abs(w.head<3>().dot(optical * a) + w[3]) < 0.05f && std::abs(w.head<3>().dot(optical * b) + w[3]) < 0.05f;
+    };
+    const float x = room.back_wall;
+    const bool is_back = through({x, 0.0f, 1.0f}, {x, 1.0f, 2.0f});
+    const bool is_side = through({x - 0.5f, room.left_wall, 1.0f}, {x - 0.1f, room.left_wall, 2.0f}) ||
+                         through({x - 0.5f, room.right_wall, 1.0f}, {x - 0.1f, room.right_wall, 2.0f});
+    EXPECT_TRUE(is_back || is_side) << "not a wall of the room: " << w.transpose();
     back = back || is_back;
   }
   EXPECT_TRUE(back) << "the back wall was not found";
