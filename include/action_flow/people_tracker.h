@@ -97,7 +97,8 @@ struct TrackerParams
   float tracked_max_width = 1.8f;
 
   // ---- added against cluttered rooms (evaluate --protocol detection) ----
-  /** Walls (vertical planes at least 1.5 m wide and 1.5 m tall, tracker_walls.h) are removed before
+  /** Walls (vertical planes at least 0.6 m wide and 1.2 m tall reaching 2.1 m above the ground, with
+   *  nothing behind them: tracker_walls.h) are removed before
    *  clustering: a person close in front of one is not absorbed into it, and none of its columns is
    *  taken for a person. Beside a head, a pixel on a removed wall counts as free. */
   bool remove_walls = true;
