@@ -11,13 +11,15 @@ set(ACTION_FLOW_USER_SCRIPTS
   scripts/plot_report.py
   scripts/plot_timeline.py
   scripts/plot_tracks.py
+  scripts/plot_detection.py
   scripts/bench_pipeline_report.py
   scripts/results_table.py
   scripts/validate_report.py)
 catkin_install_python(PROGRAMS ${ACTION_FLOW_USER_SCRIPTS} DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # evaluate draws its report with <package path>/scripts/plot_report.py (and plot_timeline.py for the
-# online protocol): a copy there, not executable, so that rosrun finds one executable of each name.
-install(FILES scripts/plot_report.py scripts/plot_timeline.py scripts/plot_tracks.py DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/scripts)
+# online protocol, plot_tracks.py for evaluate_tracking, plot_detection.py for the detection protocol): a copy there,
+# not executable, so that rosrun finds one executable of each name.
+install(FILES scripts/plot_report.py scripts/plot_timeline.py scripts/plot_tracks.py scripts/plot_detection.py DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION}/scripts)
 
 # The installed nodelets.xml: the source file without the test aids' library (its classes are for
 # the rostests, which run in the devel space; the library is not installed).

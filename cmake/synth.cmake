@@ -9,6 +9,7 @@ add_library(action_flow_synth
   src/synth/samples.cpp
   src/synth/stream.cpp
   src/synth/crowd.cpp
+  src/synth/clutter.cpp
 )
 target_link_libraries(action_flow_synth action_flow_core ${PCL_LIBRARIES})
 
@@ -30,7 +31,8 @@ if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_synth
     test/synth/test_scene.cpp
     test/synth/test_samples.cpp
-    test/synth/test_stream.cpp)
+    test/synth/test_stream.cpp
+    test/synth/test_clutter.cpp)
   target_link_libraries(test_synth action_flow_synth gtest_main)
   target_compile_definitions(test_synth PRIVATE
     ACTION_FLOW_SHARED_DATA="${PROJECT_SOURCE_DIR}/../shared/data")

@@ -1,5 +1,5 @@
 # Offline tools: train and evaluate, and the evaluation library they share.
-add_library(action_flow_eval src/eval/evaluation.cpp src/eval/stream_scoring.cpp)
+add_library(action_flow_eval src/eval/evaluation.cpp src/eval/stream_scoring.cpp src/eval/detection_scoring.cpp)
 target_link_libraries(action_flow_eval action_flow_core)
 
 if(CATKIN_ENABLE_TESTING)
@@ -7,6 +7,8 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_evaluation action_flow_eval gtest_main)
   catkin_add_gtest(test_stream_scoring test/eval/test_stream_scoring.cpp)
   target_link_libraries(test_stream_scoring action_flow_eval gtest_main)
+  catkin_add_gtest(test_detection_scoring test/eval/test_detection_scoring.cpp)
+  target_link_libraries(test_detection_scoring action_flow_eval gtest_main)
 endif()
 
 # The tools run the people tracker and render with the virtual Kinect.
@@ -19,9 +21,10 @@ target_link_libraries(action_flow_tool_support action_flow_eval action_flow_trac
 foreach(tool train evaluate)
   add_executable(${tool} src/tools/${tool}.cpp)
   if(tool STREQUAL "evaluate")
-    target_sources(${tool} PRIVATE src/tools/online_protocol.cpp)
+    target_sources(${tool} PRIVATE src/tools/online_protocol.cpp src/tools/detection_protocol.cpp)
   endif()
-  target_link_libraries(${tool} action_flow_tool_support ${catkin_LIBRARIES})
+  target_include_directories(${tool} SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
+  target_link_libraries(${tool} action_flow_tool_support ${catkin_LIBRARIES} ${OpenCV_LIBRARIES})
   target_compile_definitions(${tool} PRIVATE ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 endforeach()
 

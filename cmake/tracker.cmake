@@ -13,6 +13,7 @@ add_library(action_flow_tracker
   src/core/tracker_ground.cpp
   src/core/tracker_assignment.cpp
   src/core/tracker_clustering.cpp
+  src/core/tracker_walls.cpp
 )
 target_link_libraries(action_flow_tracker action_flow_core ${ACTION_FLOW_PCL_PEOPLE_LIBRARIES} ${PCL_LIBRARIES})
 
@@ -50,7 +51,8 @@ if(CATKIN_ENABLE_TESTING)
     test/tracker/test_tracker_parts.cpp
     test/tracker/test_tracker_scenes.cpp
     test/tracker/test_tracker_real.cpp
-    test/tracker/test_tracker_likeness.cpp)
+    test/tracker/test_tracker_likeness.cpp
+    test/tracker/test_tracker_clutter.cpp)
   target_compile_definitions(test_tracker PRIVATE
     ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data"
     ACTION_FLOW_TRACKER_TEST_DIR="${PROJECT_SOURCE_DIR}/test/tracker")

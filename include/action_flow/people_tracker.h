@@ -97,6 +97,17 @@ struct TrackerParams
    *  required of it either (HOG wants upright people). */
   float tracked_min_height = 0.7f;
   float tracked_max_width = 1.8f;
+
+  // ---- added against cluttered rooms (evaluate --protocol detection) ----
+  /** Walls (vertical planes at least 0.6 m wide and 1.2 m tall reaching 2.1 m above the ground, with
+   *  nothing behind them: tracker_walls.h) are removed before
+   *  clustering: a person close in front of one is not absorbed into it, and none of its columns is
+   *  taken for a person. Beside a head, a pixel on a removed wall counts as free. */
+  bool remove_walls = true;
+  /** A new person's head is narrower than their shoulders: the width (across the line of sight) of
+   *  the top 0.15 m may be at most this share of the widest of the 0.3-0.6 m below the top. Cabinets,
+   *  shelves, doors and chair backs are as wide at the top as below. 0 disables the check. */
+  float max_head_ratio = 0.8f;
 };
 
 /**

@@ -34,6 +34,9 @@ struct PersonDetection
   float free_fraction = std::numeric_limits<float>::quiet_NaN();
   /** Organized clouds: the image row of the detection's highest pixel (0 = the top edge); -1 if not computed. */
   int top_row = -1;
+  /** Width of the top 0.15 m over that of the 0.3-0.6 m below the top (see TrackerParams::max_head_ratio);
+   *  NaN if not computed. */
+  float head_ratio = std::numeric_limits<float>::quiet_NaN();
 };
 
 /** @brief What one frame gave. */

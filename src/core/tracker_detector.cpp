@@ -1,5 +1,6 @@
 #include <action_flow/tracker_detector.h>
 #include <action_flow/tracker_clustering.h>
+#include <action_flow/tracker_walls.h>
 
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/people/head_based_subcluster.h>
@@ -65,12 +66,59 @@ bool cutByTopBorder(const Cloud& cloud, const PersonDetection& d)
 }
 // Weak candidates (see PersonDetection::weak) closer than this on the floor are parts of one body (m).
 constexpr float kFragmentDistance = 0.45f;
+// Points closer than this to a wall are the wall's (its depth noise at 4 m included; m).
+constexpr float kWallMargin = 0.1f;
+// A person's points lie within this horizontal distance of their head (arms spread, a kick; m).
+constexpr float kReach = 0.7f;
+// Beside a head, a wall this far behind it (in range) leaves the head free (m).
+constexpr float kWallStep = 0.15f;
+// The head-and-shoulders profile: the top slice, and the band below the top where the shoulders are (m).
+constexpr float kHeadSlice = 0.15f, kShouldersFrom = 0.3f, kShouldersTo = 0.6f;
+
+bool onAWall(const std::vector<Eigen::Vector4f>& walls, const Eigen::Vector3f& p)
+{
+  for (const auto& w : walls)
+    if (std::abs(w.head<3>().dot(p) + w[3]) < kWallMargin)
+      return true;
+  return false;
+}
+
+// Width across the line of sight of the detection's top slice over that of the band below it where
+// the shoulders are; NaN when the band holds no point (a short cluster).
+float headRatio(const Cloud& cloud, const PersonDetection& d, const Eigen::Vector4f& ground, const Eigen::Vector3f& origin)
+{
+  const Eigen::Vector3f up = ground.head<3>();
+  Eigen::Vector3f view = d.centroid - origin;
+  view -= view.dot(up) * up;
+  if (!(view.norm() > 1e-3f))
+    return std::numeric_limits<float>::quiet_NaN();
+  const Eigen::Vector3f across = up.cross(view).normalized();
+  float head_lo = 1e9f, head_hi = -1e9f, body_lo = 1e9f, body_hi = -1e9f;
+  for (const auto i : d.indices)
+  {
+    const Eigen::Vector3f p = cloud[i].getVector3fMap();
+    const float below = d.height - heightAbove(ground, p), s = across.dot(p);
+    if (below <= kHeadSlice)
+    {
+      head_lo = std::min(head_lo, s);
+      head_hi = std::max(head_hi, s);
+    }
+    else if (below >= kShouldersFrom && below <= kShouldersTo)
+    {
+      body_lo = std::min(body_lo, s);
+      body_hi = std::max(body_hi, s);
+    }
+  }
+  if (!(body_hi > body_lo) || !(head_hi >= head_lo))
+    return std::numeric_limits<float>::quiet_NaN();
+  return (head_hi - head_lo) / (body_hi - body_lo);
+}
 
 // Share of the image rows of the detection's head whose pixels just left and just right of the
 // head's extent in that row both differ in range from the head by at least the step (or have no
 // depth, or lie outside the image). A head stands free; a column cut out of a wall does not.
 float freeFraction(const Cloud& cloud, const PersonDetection& d, const Eigen::Vector4f& ground,
-                   const Eigen::Vector3f& origin, float step)
+                   const Eigen::Vector3f& origin, float step, const std::vector<Eigen::Vector4f>& walls)
 {
   const int w = static_cast<int>(cloud.width);
   struct Row
@@ -100,7 +148,10 @@ float freeFraction(const Cloud& cloud, const PersonDetection& d, const Eigen::Ve
     const PointT& q = cloud[static_cast<std::size_t>(v) * w + u];
     if (!std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
       return true;
-    return std::abs((q.getVector3fMap() - origin).norm() - range) >= step;
+    // A wall behind the head stands back less far than furniture must: the head itself is off
+    // every wall (its points were kept), but a sliver of a side wall beside the back wall is not.
+    const float behind = std::abs((q.getVector3fMap() - origin).norm() - range);
+    return behind >= (onAWall(walls, q.getVector3fMap()) ? kWallStep : step);
   };
   int free_rows = 0;
   for (const auto& [v, r] : rows)
@@ -163,6 +214,8 @@ void validateTrackerParams(const TrackerParams& p)
           "tracked_min_height must be in (ground_tolerance, min_height]");
   require(std::isfinite(p.tracked_max_width) && p.tracked_max_width >= p.max_width,
           "tracked_max_width must be at least max_width");
+  require(std::isfinite(p.max_head_ratio) && p.max_head_ratio >= 0 && p.max_head_ratio <= 10,
+          "max_head_ratio must be in [0, 10] (0 = off)");
 }
 
 std::string defaultHogClassifierFile()
@@ -416,6 +469,27 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   if (above->size() < static_cast<std::size_t>(params_.min_points))
     return out;
 
+  // ---- walls: their points go before clustering (a person close in front of one would join it) ----
+  std::vector<Eigen::Vector4f> walls;
+  if (params_.remove_walls)
+  {
+    WallParams wp;
+    wp.voxel = params_.detection_voxel_size;
+    wp.inlier_distance = std::max(0.06f, params_.detection_voxel_size);
+    walls = findWalls(*above, ground, origin, wp);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < above->size(); ++i)
+      if (!onAWall(walls, (*above)[i].getVector3fMap()))
+      {
+        (*above)[kept] = (*above)[i];
+        (*level)[kept++] = (*level)[i];
+      }
+    above->resize(kept);
+    level->resize(kept);
+    if (above->size() < static_cast<std::size_t>(params_.min_points))
+      return out;
+  }
+
   // ---- Euclidean clusters ----
   RadiusGrid& grid = impl_->grid;
   std::vector<pcl::PointIndices> clusters =
@@ -476,7 +550,9 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
         // Only between neighbours: a far-away head never takes points.
         if (best != k && (heads[best] - q).norm() > params_.min_head_distance)
           best = k;
-        members[best].push_back(i);
+        // Beyond a body's reach from its head: furniture it touches (a table in front, a shelf beside).
+        if ((heads[best] - q).norm() <= kReach)
+          members[best].push_back(i);
       }
   }
 
@@ -559,7 +635,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
       for (const auto i : d.indices)
         top_row = std::min(top_row, static_cast<std::uint32_t>(i / cloud.width));
       d.top_row = static_cast<int>(top_row);
-      d.free_fraction = freeFraction(cloud, d, ground, origin, params_.free_depth_step);
+      d.free_fraction = freeFraction(cloud, d, ground, origin, params_.free_depth_step, walls);
       if (params_.reject_top_at_border && d.top_row <= kBorderRows && cutByTopBorder(cloud, d))
         continue;
       // Only of a new person: a bending body continuing its track has its back, not a free head, on top.
@@ -568,6 +644,15 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
       kept.push_back(std::move(d));
     }
     candidates.swap(kept);
+  }
+
+  // ---- a head above shoulders: cabinets, shelves, doors and chair backs are as wide at the top as
+  // below. A candidate failing it may still continue a track (weak), as one failing HOG ----
+  for (auto& d : candidates)
+  {
+    d.head_ratio = headRatio(cloud, d, ground, origin);
+    if (params_.max_head_ratio > 0.0f && d.head_ratio > params_.max_head_ratio)  // NaN: cannot tell, kept
+      d.weak = true;
   }
 
   // ---- HOG confirmation (organized clouds only: it needs the image). A person failing it may

@@ -119,6 +119,8 @@ TrackerParams readTrackerParams(const ros::NodeHandle& nh)
   readFloat(nh, "free_depth_step", p.free_depth_step);
   readFloat(nh, "tracked_min_height", p.tracked_min_height);
   readFloat(nh, "tracked_max_width", p.tracked_max_width);
+  nh.param("remove_walls", p.remove_walls, p.remove_walls);
+  readFloat(nh, "max_head_ratio", p.max_head_ratio);
   return p;
 }
 

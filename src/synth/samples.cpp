@@ -2,6 +2,7 @@
 // view, camera pose, room, streams' ground truth, MSR skeleton conversion and resampling, MSR
 // streams and segments files).
 #include <action_flow/synth/synth.h>
+#include <action_flow/synth/clutter.h>
 
 #include "motion.h"
 #include "random.h"
@@ -97,6 +98,12 @@ std::string SampleSpec::name() const
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-')
         c = '_';
     return stem;
+  }
+  if (dataset == "clutter")
+  {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "_%02d", repetition);
+    return scene + buf;
   }
   return person + "_" + action + "_" + std::to_string(repetition);
 }
@@ -251,8 +258,10 @@ struct SampleRenderer::Impl
   int frames = 0;
   std::string label;
   std::vector<StreamSegment> segments;
+  int bodies = 1;
 
   void buildIas();
+  void buildClutter();
   void buildStream();
   void buildMsr();
   void buildMsrStream();
@@ -619,6 +628,26 @@ void SampleRenderer::Impl::buildMsrStream()
   scene.reset(new SceneRenderer(camera, room));
 }
 
+void SampleRenderer::Impl::buildClutter()
+{
+  ClutterLayout layout = clutterLayout(spec, camera);
+  camera = layout.camera;
+  bodies = layout.person ? 1 : 0;
+  if (layout.person)
+  {
+    actor = layout.actor;
+    world = std::move(layout.joints);
+    forward = std::move(layout.forward);
+  }
+  else
+  {
+    world.assign(size_t(layout.frames), Skeleton());
+    forward.assign(size_t(layout.frames), Eigen::Vector3f::UnitX());
+  }
+  scene.reset(new SceneRenderer(camera, layout.room));
+  segments = { { spec.action, 0, int(world.size()) - 1 } };
+}
+
 SampleRenderer::SampleRenderer(const SampleSpec& spec, const CameraModel& camera) : impl_(new Impl)
 {
   impl_->spec = spec;
@@ -640,8 +669,10 @@ SampleRenderer::SampleRenderer(const SampleSpec& spec, const CameraModel& camera
       throw std::invalid_argument("msr_stream sample '" + spec.name() + "' without an MSR folder or skeleton file");
     impl_->buildMsrStream();
   }
+  else if (spec.dataset == "clutter")
+    impl_->buildClutter();
   else
-    throw std::invalid_argument("unknown dataset '" + spec.dataset + "' (expected ias, stream, msr or msr_stream" +
+    throw std::invalid_argument("unknown dataset '" + spec.dataset + "' (expected ias, stream, msr, msr_stream or clutter" +
                                 (spec.dataset == "crowd" ? "; a crowd scene is rendered by CrowdRenderer)" : ")"));
   impl_->noise_seed = hash64(spec.seed, hashString(spec.dataset + "/" + spec.name()), 0x4015e);
   impl_->frames = int(impl_->world.size());
@@ -660,6 +691,7 @@ SampleRenderer::~SampleRenderer() = default;
 const SampleSpec& SampleRenderer::spec() const { return impl_->spec; }
 const std::string& SampleRenderer::label() const { return impl_->label; }
 int SampleRenderer::frames() const { return impl_->frames; }
+int SampleRenderer::bodies() const { return impl_->bodies; }
 const std::vector<StreamSegment>& SampleRenderer::segments() const { return impl_->segments; }
 
 std::string SampleRenderer::actionAt(int i) const
@@ -700,7 +732,10 @@ PosedBody SampleRenderer::posedBody(int i, std::uint8_t id) const
 
 void SampleRenderer::renderImages(int i, FrameImages& out) const
 {
-  impl_->scene->render({ posedBody(i, 1) }, impl_->noise_seed, i, out);
+  if (impl_->bodies == 0)
+    impl_->scene->render({}, impl_->noise_seed, i, out);
+  else
+    impl_->scene->render({ posedBody(i, 1) }, impl_->noise_seed, i, out);
 }
 
 void SampleRenderer::render(int i, Cloud& out, std::vector<std::uint8_t>* mask) const

@@ -4,6 +4,7 @@
 // accuracy against frames per sequence (its Figure 8) and an ablation table.
 #include "cli.h"
 #include "extraction.h"
+#include "detection_protocol.h"
 #include "online_protocol.h"
 #include "sample_sources.h"
 
@@ -28,7 +29,7 @@ namespace
 {
 const char* kUsage =
     "usage: evaluate --output DIR (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
-    "  --protocol lopo|cross-subject|online\n"
+    "  --protocol lopo|cross-subject|online|detection\n"
     "                                  leave-one-person-out (default), train on --train-persons, or labels on\n"
     "                                  continuous streams of new people (see below)\n"
     "  --train-persons a,b,...         cross-subject training people (default s01,s03,s05,s07,s09)\n"
@@ -252,6 +253,7 @@ int main(int argc, char** argv)
                                      "sweep" };
     valued.insert(methodOptions().begin(), methodOptions().end());
     valued.insert(onlineOptions().begin(), onlineOptions().end());
+    valued.insert(detectionOptions().begin(), detectionOptions().end());
     addSampleOptions(valued);
     std::set<std::string> flags = methodFlags();
     flags.insert({ "help", "no-plots", "allow-empty" });
@@ -261,9 +263,12 @@ int main(int argc, char** argv)
       std::fputs(kUsage, args.has("help") ? stdout : stderr);
       std::fputs(sampleUsage(), args.has("help") ? stdout : stderr);
       std::fputs(onlineUsage(), args.has("help") ? stdout : stderr);
+      std::fputs(detectionUsage(), args.has("help") ? stdout : stderr);
       std::fputs(methodUsage(), args.has("help") ? stdout : stderr);
       return args.has("help") ? 0 : 2;
     }
+    if (args.get("protocol") == "detection")  // the people tracker alone, on scenes of its own
+      return runDetectionProtocol(args, args.get("output"));
     const auto t0 = std::chrono::steady_clock::now();
     // Every option is checked before any work starts.
     const RecognitionParams base = methodParams(args);
@@ -293,7 +298,7 @@ int main(int argc, char** argv)
     else if (protocol == "cross-subject")
       folds = { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
     else
-      throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject or online)");
+      throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, online or detection)");
     std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", samples.size(),
                  uniqueSorted(persons).size(), folds.size(), protocol.c_str());
 

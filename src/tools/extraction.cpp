@@ -92,7 +92,8 @@ std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t
     << t.sampling_factor << " " << t.up_hint.transpose() << " " << t.ground_max_angle << " " << t.ground_min_area << " "
     << t.assume_ground_below_points << " " << t.min_head_distance << " " << t.hog_min_confidence << " "
     << t.camera_height << " " << t.camera_pitch << " " << t.reject_top_at_border << " " << t.min_free_fraction << " "
-    << t.free_depth_step << " " << t.tracked_min_height << " " << t.tracked_max_width;
+    << t.free_depth_step << " " << t.tracked_min_height << " " << t.tracked_max_width << " " << t.remove_walls << " "
+    << t.max_head_ratio;
   const std::string kind = p.recognizer == Recognizer::Paper ? toString(p.grid.aggregation) : toString(p.recognizer);
   return kind + (p.flow.reject_outliers ? "" : "_raw") + "_" + hex(s.str());
 }

@@ -4,6 +4,7 @@
 #include "synth_bag.h"
 
 #include <action_flow/synth/crowd.h>
+#include <action_flow/synth/clutter.h>
 #include <action_flow/synth/synth.h>
 
 #include <opencv2/core.hpp>
@@ -38,13 +39,17 @@ const char* kUsage = R"(usage: synth [options]
 Renders one bag per sample (in the layout of a Kinect recorded with the ROS OpenNI driver) into
 OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
 
-  --dataset ias|stream|msr|msr_stream|crowd   ias: synthetic actors, 15 IAS-Lab actions (default); stream:
+  --dataset ias|stream|msr|msr_stream|crowd|clutter
+                         ias: synthetic actors, 15 IAS-Lab actions (default); stream:
                          the same actors performing actions in a row (pNN_stream_R.bag with
                          /ground_truth/action, and pNN_stream_R_segments.csv); msr: MSR Action3D
                          skeletons; msr_stream: an MSR subject's sequences in a row (sNN_msr_stream_R.bag
                          and sNN_msr_stream_R_segments.csv); crowd: several actors at once, entering,
                          leaving, crossing, facing any way (crowdN_S.bag, crowdN_S_segments.csv with a
-                         person column, crowdN_S_people.csv: each person's position and visibility per frame)
+                         person column, crowdN_S_people.csv: each person's position and visibility per
+                         frame); clutter: the actors in cluttered rooms (walls, chairs, tables, shelves,
+                         doors, cut by the image border) and rooms of furniture only, KIND_NN.bag, for
+                         people detection (docs/synth.md)
   --skeletons DIR        msr, msr_stream: folder of aAA_sSS_eEE_skeleton3D.txt files (required)
   --segments FILE        msr_stream: --skeletons is one continuous skeleton file in the MSR format and
                          FILE its truth (CSV action,first_frame,last_frame in the file's 15 fps frames);
@@ -53,7 +58,7 @@ OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
   --people N             ias, stream: number of actors (default 12); crowd: people per scene, 2-5 (default 3)
   --scenes S             crowd: number of scenes (default 2)
   --seconds T            crowd: length of a scene in seconds (default 60)
-  --repetitions N        ias: repetitions of each action (default 3)
+  --repetitions N        ias: repetitions of each action (default 3); clutter: scenes of each kind
   --first-person K       stream: the actors are pK.. (default 1)
   --streams S            stream, msr_stream: streams per actor or subject (default 2)
   --stream-actions A     stream, msr_stream: actions (MSR sequences) per stream (default 8; sit_down +
@@ -321,6 +326,8 @@ int main(int argc, char** argv)
       specs = iasLabSamples(people, repetitions, seed);
     else if (dataset == "stream")
       specs = streamSamples(first_person, people, streams, stream_actions, seed);
+    else if (dataset == "clutter")
+      specs = clutterSamples(repetitions, seed);
     else if (dataset == "msr")
     {
       if (skeletons.empty())
@@ -359,7 +366,7 @@ int main(int argc, char** argv)
     else if (dataset == "crowd")
       specs = crowdSamples(people_given ? people : 3, scenes, seconds, seed);
     else
-      fail("--dataset must be ias, stream, msr, msr_stream or crowd, got '" + dataset + "'");
+      fail("--dataset must be ias, stream, msr, msr_stream, crowd or clutter, got '" + dataset + "'");
     if (!segments.empty() && dataset != "msr_stream")
       fail("--segments is for --dataset msr_stream (a continuous skeleton file)");
   }

@@ -320,7 +320,14 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
 {
   BagSource src{ sample.camera(), sample.scene(), sample.frames(), [&](int i) { return sample.stamp(i); },
                  [&](int i, FrameImages& im) { sample.renderImages(i, im); },
-                 [&](int i) { return std::vector<std::pair<int, Skeleton>>{ { 1, sample.skeleton(i) } }; }, {} };
+                 [&](int i) {
+                   // none in a scene without a person (clutter: furniture only)
+                   std::vector<std::pair<int, Skeleton>> users;
+                   if (sample.bodies() > 0)
+                     users.emplace_back(1, sample.skeleton(i));
+                   return users;
+                 },
+                 {} };
   if (sample.spec().dataset == "stream" || sample.spec().dataset == "msr_stream")
     src.action = [&](int i) { return sample.actionAt(i); };
   return writeBag(src, path, options, cancel, on_frame);

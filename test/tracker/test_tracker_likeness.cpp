@@ -312,3 +312,21 @@ TEST(TrackerLikeness, ARaisedHandLeavingTheImageKeepsThePerson)
   EXPECT_LE(t.ids.size(), 2u);
   EXPECT_LE(t.others, t.frames / 10);
 }
+
+// BendingAndKickingPeopleKeepTheirTrack with the tracker's defaults (no HOG: what the tools, the demo and the synthetic data run).
+TEST(TrackerPostures, BendingAndKickingPeopleKeepTheirTrackWithTheDefaults)
+{
+  for (const auto& [action, person] : std::vector<std::pair<std::string, std::string>>{
+           {"pick_up", "p01"}, {"pick_up", "p02"}, {"pick_up", "p05"}, {"kick", "p03"}})
+  {
+    SCOPED_TRACE(action + " " + person);
+    synth::SampleSpec spec;
+    spec.person = person;
+    spec.action = action;
+    const SampleTrack t = trackSample(spec, TrackerParams());
+    ASSERT_GT(t.frames, 20);
+    EXPECT_EQ(t.ids.size(), 1u) << "the actor changed track id";
+    EXPECT_GE(t.seen, (t.frames - 1) * 95 / 100) << "the actor was missed in " << t.frames - 1 - t.seen << " frames";
+    EXPECT_EQ(t.others, 0);
+  }
+}

@@ -169,6 +169,60 @@ std::map<std::string, std::vector<RealPerson>> readRealPeople()
   }
   return out;
 }
+
+/** What one tracker configuration reports on the frames of test/tracker/real_people.csv. */
+struct RealScore
+{
+  int required = 0, found_required = 0, reported = 0, false_reports = 0;
+};
+
+/**
+ * Runs a fresh tracker with @p params on each shared frame (twice: a track is confirmed on its second
+ * detection) and scores its people against the hand-counted table: a report within 0.4 m of a listed
+ * person finds them, any other report is false. @p strict: every false report and every missed
+ * required person is a test failure.
+ */
+RealScore scoreRealFrames(const TrackerParams& params, bool strict)
+{
+  RealScore score;
+  for (const auto& [frame, people] : readRealPeople())
+  {
+    SCOPED_TRACE(frame);
+    const std::string path = kRealDir + "/" + frame;
+    const Cloud cloud = frame.size() > 4 && frame.substr(frame.size() - 4) == ".pcd" ? test::loadPcd(path)
+                                                                                      : test::loadTueBag(path);
+    PeopleTracker tracker(params);
+    const TrackerResult r = twice(tracker, cloud);
+    EXPECT_TRUE(r.ground_valid);
+    std::vector<char> found(people.size(), 0);
+    for (const auto& p : r.people)
+    {
+      ++score.reported;
+      int best = -1;
+      for (std::size_t i = 0; i < people.size(); ++i)
+        if (std::hypot(p.position.x() - people[i].x, p.position.z() - people[i].z) < 0.4f)
+          best = static_cast<int>(i);
+      if (best < 0)
+      {
+        ++score.false_reports;
+        if (strict)
+          ADD_FAILURE() << "reported a person where there is none: at (" << p.position.x() << ", " << p.position.z()
+                        << "), height " << p.height;
+        continue;
+      }
+      found[best] = 1;
+    }
+    for (std::size_t i = 0; i < people.size(); ++i)
+      if (people[i].required)
+      {
+        ++score.required;
+        score.found_required += found[i];
+        if (strict && !found[i])
+          ADD_FAILURE() << people[i].posture << " person at (" << people[i].x << ", " << people[i].z << ") not found";
+      }
+  }
+  return score;
+}
 }  // namespace
 
 // With the defaults of a real sensor (kinect.launch: the tracker's defaults, the person-likeness
@@ -177,51 +231,28 @@ std::map<std::string, std::vector<RealPerson>> readRealPeople()
 // people may be reported (they are people).
 TEST(TrackerRealData, SensorDefaultsFindEveryStandingPersonAndNoFurniture)
 {
-  const auto table = readRealPeople();
-  ASSERT_EQ(table.size(), 6u) << "test/tracker/real_people.csv";
+  ASSERT_EQ(readRealPeople().size(), 6u) << "test/tracker/real_people.csv";
   if (!test::fileExists(kRealDir + "/pcl_five_people.pcd"))
     GTEST_SKIP() << "real data absent: " << kRealDir << " (../shared/data is not there)";
   if (defaultHogClassifierFile().empty())
     GTEST_SKIP() << "the default HOG classifier is not found (see docs/tracker.md)";
-  int required = 0, found_required = 0, reported = 0, false_reports = 0;
-  for (const auto& [frame, people] : table)
-  {
-    SCOPED_TRACE(frame);
-    const std::string path = kRealDir + "/" + frame;
-    const Cloud cloud = frame.size() > 4 && frame.substr(frame.size() - 4) == ".pcd" ? test::loadPcd(path)
-                                                                                      : test::loadTueBag(path);
-    TrackerParams sensor;
-    sensor.hog_classifier_file = "default";  // kinect.launch's hog arg
-    PeopleTracker tracker(sensor);
-    const TrackerResult r = twice(tracker, cloud);
-    ASSERT_TRUE(r.ground_valid);
-    EXPECT_TRUE(r.hog_applied);
-    std::vector<char> found(people.size(), 0);
-    for (const auto& p : r.people)
-    {
-      ++reported;
-      int best = -1;
-      for (std::size_t i = 0; i < people.size(); ++i)
-        if (std::hypot(p.position.x() - people[i].x, p.position.z() - people[i].z) < 0.4f)
-          best = static_cast<int>(i);
-      if (best < 0)
-      {
-        ++false_reports;
-        ADD_FAILURE() << "reported a person where there is none: at (" << p.position.x() << ", " << p.position.z()
-                      << "), height " << p.height;
-        continue;
-      }
-      found[best] = 1;
-    }
-    for (std::size_t i = 0; i < people.size(); ++i)
-      if (people[i].required)
-      {
-        ++required;
-        found_required += found[i];
-        EXPECT_TRUE(found[i]) << people[i].posture << " person at (" << people[i].x << ", " << people[i].z
-                              << ") not found";
-      }
-  }
-  std::printf("real frames, default parameters: %d of %d required people found; %d reports, %d of them false\n",
-              found_required, required, reported, false_reports);
+  TrackerParams sensor;
+  sensor.hog_classifier_file = "default";  // kinect.launch's hog arg
+  const RealScore s = scoreRealFrames(sensor, true);
+  std::printf("real frames, sensor defaults (HOG): %d of %d required people found; %d reports, %d of them false\n",
+              s.found_required, s.required, s.reported, s.false_reports);
+}
+
+// The tracker's own defaults (no HOG, as for rendered data): every standing person is found; the
+// false reports are counted (docs/tracker.md: the corridor's two boards) and may not grow.
+TEST(TrackerRealData, TrackerDefaultsFindEveryStandingPerson)
+{
+  if (!test::fileExists(kRealDir + "/pcl_five_people.pcd"))
+    GTEST_SKIP() << "real data absent: " << kRealDir << " (../shared/data is not there)";
+  const RealScore s = scoreRealFrames(TrackerParams(), false);
+  std::printf("real frames, tracker defaults (no HOG): %d of %d required people found; %d reports, %d of them false\n",
+              s.found_required, s.required, s.reported, s.false_reports);
+  EXPECT_EQ(s.found_required, s.required);
+  EXPECT_EQ(s.required, 10);
+  EXPECT_LE(s.false_reports, 2);
 }

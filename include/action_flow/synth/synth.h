@@ -51,7 +51,8 @@ const std::vector<std::string>& iasLabActions();
 struct SampleSpec
 {
   /** "ias" (synthetic actors), "stream" (their streams), "msr" (MSR Action3D skeletons),
-   *  "msr_stream" (MSR motion in a row) or "crowd" (several people at once: CrowdRenderer). */
+   *  "msr_stream" (MSR motion in a row), "crowd" (several people at once: CrowdRenderer) or "clutter"
+   *  (cluttered rooms, clutter.h). */
   std::string dataset = "ias";
   std::string person;           ///< "p01".."pNN" (ias, stream) or "s01".."s10" (msr, msr_stream)
   std::string action;           ///< an iasLabActions() name, an msrActions() name, or "stream"
@@ -76,10 +77,14 @@ struct SampleSpec
   /** crowd: the scene's length (s). */
   double crowd_seconds = 60.0;
 
+  /** clutter: the scene type, a clutterKinds() name (clutter.h); person "none" and action "none" for
+   *  furniture only. */
+  std::string scene;
+
   /**
    * @brief "p01_wave_1" / "a01_s01_e01" / "p01_stream_1" / "s01_msr_stream_1" (a continuous file:
-   *        its file name without extension, file-name safe) / "crowd3_1" (people, scene): unique
-   *        within a dataset, used as the bag's base name.
+   *        its file name without extension, file-name safe) / "crowd3_1" (people, scene) /
+   *        "wall_03" (clutter: scene type and number): unique within a dataset, used as the bag's base name.
    */
   std::string name() const;
 };
@@ -231,6 +236,10 @@ public:
    *        SceneRenderer. The body refers to this renderer's appearance: keep the renderer alive.
    */
   PosedBody posedBody(int i, std::uint8_t id = 1) const;
+
+  /** @brief People rendered in each frame: 1, or 0 for a clutter scene of furniture only (then
+   *         render() draws the room alone and the skeletons are not meaningful). */
+  int bodies() const;
 
   /** @brief The camera (with this sample's height and tilt). */
   const CameraModel& camera() const;

@@ -1,0 +1,191 @@
+// The tracker with its DEFAULT parameters in the virtual Kinect's cluttered rooms: a rendered person
+// close in front of a wall is one detection, a chair alone is none, the ground seen in earlier frames
+// is kept when furniture hides the floor; the walls it removes are the room's. (test_tracker_likeness.cpp has the same cases on the
+// test camera's simple shapes, and the bending bodies.)
+#include <action_flow/people_tracker.h>
+#include <action_flow/tracker_walls.h>
+#include <action_flow/synth/scene.h>
+#include <action_flow/synth/synth.h>
+
+#include <gtest/gtest.h>
+#include <pcl/filters/voxel_grid.h>
+
+#include <cmath>
+
+using namespace action_flow;
+using synth::Joint;
+
+namespace
+{
+synth::Room emptyRoom()
+{
+  synth::Room room = synth::Room::lab(3);
+  room.boxes.clear();
+  return room;
+}
+
+/** The floor (world z = 0) in the camera's optical frame, normal up. */
+Eigen::Vector4f floorInOptical(const synth::CameraModel& cam)
+{
+  const Eigen::Isometry3f w = cam.worldFromOptical();
+  const Eigen::Vector3f n = w.linear().transpose() * Eigen::Vector3f::UnitZ();
+  return Eigen::Vector4f(n.x(), n.y(), n.z(), static_cast<float>(cam.height_above_floor));
+}
+
+/** Frame @p i of a standing actor moved so that the torso stands at (x, y) of the world. */
+synth::PosedBody standingAt(const synth::SampleRenderer& actor, int i, float x, float y)
+{
+  synth::PosedBody body = actor.posedBody(i, 1);
+  const Eigen::Vector3f shift = Eigen::Vector3f(x, y, 0) - Eigen::Vector3f(body.joints[Joint::Torso].x(),
+                                                                         body.joints[Joint::Torso].y(), 0);
+  for (auto& j : body.joints.joints)
+    j += shift;
+  return body;
+}
+
+Cloud renderCloud(const synth::SceneRenderer& scene, const std::vector<synth::PosedBody>& bodies, int frame)
+{
+  synth::FrameImages im;
+  scene.render(bodies, 7, frame, im);
+  Cloud cloud;
+  scene.toCloud(im, cloud);
+  return cloud;
+}
+
+synth::SampleSpec standing(const std::string& person)
+{
+  synth::SampleSpec spec;
+  spec.person = person;
+  spec.action = "standing";
+  return spec;
+}
+}  // namespace
+
+TEST(TrackerClutter, AWallCloseBehindARenderedPersonGivesOneDetectionThePerson)
+{
+  const synth::SampleRenderer actor(standing("p02"));
+  for (const float gap : {0.2f, 0.5f, 1.0f})
+  {
+    SCOPED_TRACE("wall " + std::to_string(gap) + " m behind");
+    synth::Room room = emptyRoom();
+    room.back_wall = 3.0f + gap;  // beyond the Kinect's 4.5 m it would give no depth at all
+    synth::CameraModel cam;
+    const synth::SceneRenderer scene(cam, room);
+    const Eigen::Isometry3f world = cam.worldFromOptical();
+    PeopleTracker tracker;
+    for (int k = 0; k < 8; ++k)
+    {
+      const TrackerResult r = tracker.update(renderCloud(scene, {standingAt(actor, k, 3.0f, 0.3f)}, k), 0.1 * k);
+      if (k == 0)
+        continue;
+      EXPECT_EQ(r.detections, 1u) << "frame " << k;
+      ASSERT_EQ(r.people.size(), 1u) << "frame " << k;
+      EXPECT_LT(((world * r.people[0].position).head<2>() - Eigen::Vector2f(3.0f, 0.3f)).norm(), 0.3f);
+    }
+  }
+}
+
+TEST(TrackerClutter, AChairAloneGivesNone)
+{
+  synth::Material wood;
+  wood.base = synth::Rgb(0.5f, 0.33f, 0.18f);
+  int scenes = 0;
+  for (const double height : {0.5, 1.1, 1.8})
+    for (const double tilt : {-0.17, 0.1, 0.35})
+      for (const float yaw : {3.14f, 2.2f})
+      {
+        SCOPED_TRACE("camera " + std::to_string(height) + " m, tilt " + std::to_string(tilt) + ", chair yaw " +
+                     std::to_string(yaw));
+        synth::Room room = emptyRoom();
+        room.boxes = synth::Room::chair(2.0f + 0.6f * static_cast<float>(scenes % 3), 0.2f, yaw, 0.46f, wood);
+        synth::CameraModel cam;
+        cam.height_above_floor = height;
+        cam.tilt = tilt;
+        const synth::SceneRenderer scene(cam, room);
+        PeopleTracker tracker;
+        for (int k = 0; k < 6; ++k)
+        {
+          const TrackerResult r = tracker.update(renderCloud(scene, {}, k), 0.1 * k);
+          EXPECT_EQ(r.detections, 0u) << "frame " << k;
+          EXPECT_TRUE(r.people.empty()) << "frame " << k;
+        }
+        ++scenes;
+      }
+}
+
+TEST(TrackerClutter, AFloorHiddenByFurnitureAfterFramesThatShowedItKeepsTheGround)
+{
+  // A sideboard across the room, 1.3 m in front of the camera and 0.9 m high, hides the whole floor
+  // (the lowest points then seen are on its front, 0.5 m up): first frames without it, then with it.
+  const synth::SampleRenderer actor(standing("p04"));
+  synth::CameraModel cam;
+  const Eigen::Vector4f truth = floorInOptical(cam);
+  synth::Room open = emptyRoom(), hidden = open;
+  synth::Box sideboard;
+  sideboard.center = Eigen::Vector3f(1.5f, 0.0f, 0.45f);
+  sideboard.half = Eigen::Vector3f(0.22f, 2.5f, 0.45f);
+  hidden.boxes.push_back(sideboard);
+  const synth::SceneRenderer before(cam, open), after(cam, hidden);
+  PeopleTracker tracker;
+  for (int k = 0; k < 16; ++k)
+  {
+    const auto& scene = k < 4 ? before : after;
+    const TrackerResult r = tracker.update(renderCloud(scene, {standingAt(actor, k, 3.2f, 0.0f)}, k), 0.1 * k);
+    ASSERT_TRUE(r.ground_valid) << "frame " << k;
+    const float angle = std::acos(std::min(1.0f, r.ground.head<3>().dot(truth.head<3>())));
+    EXPECT_LT(angle, 0.03f) << "frame " << k;
+    EXPECT_NEAR(r.ground[3], truth[3], 0.04f) << "frame " << k;
+    if (k == 0)
+      continue;
+    ASSERT_EQ(r.people.size(), 1u) << "frame " << k;
+    EXPECT_NEAR(r.people[0].height, actor.posedBody(k).shape.height, 0.12f) << "frame " << k;
+  }
+}
+
+TEST(TrackerWalls, FindsTheRoomsWallsAndNoFurniture)
+{
+  // The lab room seen from 1.1 m: the back wall 4.3 m ahead and the left wall 2.3 m aside are in
+  // view; a 1.9 m cabinet (0.8 m wide) and a chair are not walls.
+  synth::Room room = emptyRoom();
+  synth::Box cabinet;
+  cabinet.center = Eigen::Vector3f(3.0f, -1.0f, 0.95f);
+  cabinet.half = Eigen::Vector3f(0.3f, 0.4f, 0.95f);
+  room.boxes.push_back(cabinet);
+  synth::Material wood;
+  for (const auto& b : synth::Room::chair(2.5f, 0.8f, 2.0f, 0.46f, wood))
+    room.boxes.push_back(b);
+  synth::CameraModel cam;
+  cam.tilt = 0.05;
+  const synth::SceneRenderer scene(cam, room);
+  const Cloud cloud = renderCloud(scene, {}, 0);
+  const Eigen::Isometry3f world = cam.worldFromOptical();
+  const Eigen::Vector4f floor = floorInOptical(cam);
+  Cloud above;
+  for (const auto& p : cloud.points)
+    if (std::isfinite(p.z) && floor.head<3>().dot(p.getVector3fMap()) + floor[3] > 0.05f)
+      above.push_back(p);
+  Cloud voxels;
+  pcl::VoxelGrid<PointT> grid;
+  grid.setInputCloud(above.makeShared());
+  grid.setLeafSize(0.06f, 0.06f, 0.06f);
+  grid.filter(voxels);
+  const auto walls = findWalls(voxels, floor, Eigen::Vector3f::Zero());
+  ASSERT_FALSE(walls.empty());
+  bool back = false;
+  for (const auto& w : walls)
+  {
+    // Each is one of the room's walls: it passes through two points of that wall in view (world),
+    // within 5 cm.
+    const auto through = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+      const Eigen::Isometry3f optical = world.inverse();
+      return std::abs(w.head<3>().dot(optical * a) + w[3]) < 0.05f && std::abs(w.head<3>().dot(optical * b) + w[3]) < 0.05f;
+    };
+    const float x = room.back_wall;
+    const bool is_back = through({x, 0.0f, 1.0f}, {x, 1.0f, 2.0f});
+    const bool is_side = through({x - 0.5f, room.left_wall, 1.0f}, {x - 0.1f, room.left_wall, 2.0f}) ||
+                         through({x - 0.5f, room.right_wall, 1.0f}, {x - 0.1f, room.right_wall, 2.0f});
+    EXPECT_TRUE(is_back || is_side) << "not a wall of the room: " << w.transpose();
+    back = back || is_back;
+  }
+  EXPECT_TRUE(back) << "the back wall was not found";
+}
