@@ -3,7 +3,7 @@ add_library(action_flow_eval src/eval/evaluation.cpp src/eval/stream_scoring.cpp
 target_link_libraries(action_flow_eval action_flow_core)
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_evaluation test/eval/test_evaluation.cpp)
+  catkin_add_gtest(test_evaluation test/eval/test_evaluation.cpp test/eval/test_paper_variant.cpp)
   target_link_libraries(test_evaluation action_flow_eval gtest_main)
   catkin_add_gtest(test_stream_scoring test/eval/test_stream_scoring.cpp)
   target_link_libraries(test_stream_scoring action_flow_eval gtest_main)
