@@ -84,7 +84,8 @@ struct TrackerParams
   /** Organized clouds: a cluster whose top reaches the image's top edge (within 2 rows) about as wide
    *  as its widest row (half of it or more) is no person: its height is the image's, not a head's
    *  (walls, curtains, doors, shelves cut by the image border). A raised hand or a head leaving the
-   *  image is much narrower than the body, and is kept. */
+   *  image is much narrower than the body, and is kept; what the edge cuts must also span less than
+   *  0.35 m (a side wall seen along its length is narrow in pixels there but a metre deep). */
   bool reject_top_at_border = true;
   /** Organized clouds: a person stands free of what is behind them; at least this share of the rows
    *  of the head (its top 0.25 m) must show a depth step of free_depth_step (or no depth) on both sides
@@ -108,6 +109,14 @@ struct TrackerParams
    *  the top 0.15 m may be at most this share of the widest of the 0.3-0.6 m below the top. Cabinets,
    *  shelves, doors and chair backs are as wide at the top as below. 0 disables the check. */
   float max_head_ratio = 0.8f;
+
+  // ---- added for several people (evaluate_tracking) ----
+  /** A confirmed track that is not seen while its predicted place lies in the shadow of a person
+   *  nearer to the camera (hidden behind them, seen along the ground) is kept this long instead of
+   *  lost_after, coasting at its velocity; while unseen its gate widens (by 0.5 m a second, to at
+   *  most twice gate), so a person passing behind another comes back under their own id.
+   *  Must be at least lost_after; equal to it turns the re-identification off. */
+  double hidden_lost_after = 2.0;
 };
 
 /**

@@ -3,6 +3,7 @@
 #include <action_flow/tracker_detector.h>
 
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 
 namespace action_flow
@@ -16,6 +17,30 @@ struct Track
   int hits = 1;
   double last_seen = 0.0;
 };
+
+// How fast an unseen track's gate widens (m/s), up to twice the gate: where a hidden person comes
+// back out is less certain the longer they were hidden.
+constexpr float kGateGrowth = 0.5f;
+// Half the width of a person's shadow (m) at the person's own distance: a body about 0.5 m wide
+// plus the hidden person's half width.
+constexpr float kShadowHalfWidth = 0.45f;
+
+/**
+ * Whether @p hidden (a predicted position) lies in the shadow of @p front (a person seen in this
+ * frame) as the camera at @p origin sees them, measured on the ground plane (@p flat removes the
+ * up component): @p front is nearer, and the line of sight to @p hidden passes within the front
+ * person's shadow, which widens with distance behind them.
+ */
+bool inShadowOf(const Eigen::Vector3f& hidden, const Eigen::Vector3f& front, const Eigen::Vector3f& origin,
+                const std::function<Eigen::Vector3f(const Eigen::Vector3f&)>& flat)
+{
+  const Eigen::Vector3f h = flat(hidden - origin), f = flat(front - origin);
+  const float dh = h.norm(), df = f.norm();
+  if (!(df > 0.1f) || dh <= df)
+    return false;
+  const float lateral = (h - h.dot(f / df) * (f / df)).norm();  // from the line of sight through front
+  return lateral < kShadowHalfWidth * dh / df;
+}
 }  // namespace
 
 struct PeopleTracker::Impl
@@ -81,17 +106,29 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
   // Gated optimal assignment on the ground: distance between prediction and detection, ignoring
   // the height (a person bending is still the same person).
   const Eigen::Vector3f up = det.ground_valid ? Eigen::Vector3f(det.ground.head<3>()) : Eigen::Vector3f::Zero();
-  const auto horizontal = [&](const Eigen::Vector3f& d) { return (d - d.dot(up) * up).norm(); };
+  const auto flat = [&](const Eigen::Vector3f& d) -> Eigen::Vector3f { return d - d.dot(up) * up; };
+  // Costs in units of each track's gate (a track unseen for a while has a wider one), gated at 1.
   Eigen::MatrixXf cost(s.tracks.size(), det.people.size());
   for (std::size_t i = 0; i < s.tracks.size(); ++i)
+  {
+    const float unseen = static_cast<float>(stamp - s.tracks[i].last_seen);
+    const float gate = std::min(2.0f * params_.gate, params_.gate + kGateGrowth * std::max(0.0f, unseen - 0.1f));
     for (std::size_t j = 0; j < det.people.size(); ++j)
       // A weak detection (a body bending, crouching, kicking; or failing HOG) only continues a
       // confirmed track: it neither confirms a tentative one nor starts one.
       cost(i, j) = det.people[j].weak && s.tracks[i].id == 0
-                       ? 2.0f * params_.gate + 1e3f
-                       : horizontal(det.people[j].centroid - s.tracks[i].filter.position());
-  const std::vector<int> match = solveAssignment(cost, params_.gate);
+                       ? 2.0f + 1e3f
+                       : flat(det.people[j].centroid - s.tracks[i].filter.position()).norm() / gate;
+  }
+  const std::vector<int> match = solveAssignment(cost, 1.0f);
 
+  // Hidden behind a person seen in this frame: not lost yet (re-identification when they come back).
+  const auto hiddenBySomeone = [&](const Eigen::Vector3f& position) {
+    for (const PersonDetection& d : det.people)
+      if (inShadowOf(position, d.centroid, camera_origin, flat))
+        return true;
+    return false;
+  };
   std::vector<char> used(det.people.size(), 0);
   std::vector<Track> kept;
   std::vector<int> kept_detection;  // detection seen by each kept track in this frame, or -1
@@ -113,7 +150,8 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
     {
       // A tentative track missing a frame was most likely clutter: dropped silently.
     }
-    else if (stamp - t.last_seen > params_.lost_after)
+    else if (stamp - t.last_seen > params_.lost_after &&
+             (stamp - t.last_seen > params_.hidden_lost_after || !hiddenBySomeone(t.filter.position())))
       result.lost.push_back(t.id);
     else
     {

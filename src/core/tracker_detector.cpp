@@ -52,17 +52,47 @@ constexpr int kBorderRows = 2;
 // the image's edge). A raised hand or a head leaving the image is far narrower than the body below
 // it: at least this much narrower, in pixels of the widest row.
 constexpr float kCutSurfaceWidthRatio = 0.5f;
+// ... or when one unbroken piece of it along an edge row is longer than a head or a hand, in
+// metres: a side wall seen along its length is few pixels wide at the edge but a metre long there.
+constexpr float kCutSurfaceLength = 0.35f;
+// Neighbouring pixels of a row farther apart than this (m) break the piece (a depth step such as a
+// hand's in front of the face; a wall's depth noise at 4 m is well below it).
+constexpr float kCutSurfaceStep = 0.25f;
 
 // Whether a candidate reaching the image's top edge is cut there like a surface: its widest row
-// within kBorderRows of the edge has at least kCutSurfaceWidthRatio of its widest row's pixels.
+// within kBorderRows of the edge has at least kCutSurfaceWidthRatio of its widest row's pixels, or
+// one of those rows holds an unbroken piece kCutSurfaceLength long or longer (end to end in 3D).
 bool cutByTopBorder(const Cloud& cloud, const PersonDetection& d)
 {
   std::vector<int> per_row(cloud.height, 0);
+  std::vector<std::vector<std::uint32_t>> edge_rows(std::min<std::uint32_t>(kBorderRows + 1, cloud.height));
   for (const auto i : d.indices)
-    ++per_row[i / cloud.width];
+  {
+    const std::uint32_t row = static_cast<std::uint32_t>(i) / cloud.width;
+    ++per_row[row];
+    if (row < edge_rows.size())
+      edge_rows[row].push_back(static_cast<std::uint32_t>(i));
+  }
   const int widest = *std::max_element(per_row.begin(), per_row.end());
-  const int at_border = *std::max_element(per_row.begin(), per_row.begin() + std::min<int>(kBorderRows + 1, cloud.height));
-  return at_border > 0 && static_cast<float>(at_border) >= kCutSurfaceWidthRatio * static_cast<float>(widest);
+  const int at_border = *std::max_element(per_row.begin(), per_row.begin() + static_cast<long>(edge_rows.size()));
+  if (at_border == 0)
+    return false;
+  if (static_cast<float>(at_border) >= kCutSurfaceWidthRatio * static_cast<float>(widest))
+    return true;
+  for (auto& row : edge_rows)
+  {
+    std::sort(row.begin(), row.end());
+    for (std::size_t start = 0, k = 1; k <= row.size(); ++k)
+    {
+      const auto p = [&](std::size_t j) { return cloud.points[row[j]].getVector3fMap(); };
+      if (k < row.size() && row[k] - row[k - 1] <= 2 && (p(k) - p(k - 1)).norm() < kCutSurfaceStep)
+        continue;
+      if ((p(k - 1) - p(start)).norm() >= kCutSurfaceLength)
+        return true;
+      start = k;
+    }
+  }
+  return false;
 }
 // Weak candidates (see PersonDetection::weak) closer than this on the floor are parts of one body (m).
 constexpr float kFragmentDistance = 0.45f;
@@ -196,6 +226,8 @@ void validateTrackerParams(const TrackerParams& p)
     require(p.ground.allFinite() && p.ground.head<3>().norm() > 1e-6f, "ground must be a finite plane with a normal");
   require(std::isfinite(p.gate) && p.gate > 0, "gate must be positive");
   require(std::isfinite(p.lost_after) && p.lost_after > 0, "lost_after must be positive");
+  require(std::isfinite(p.hidden_lost_after) && p.hidden_lost_after >= p.lost_after,
+          "hidden_lost_after must be at least lost_after");
   require(p.confirm_after >= 1, "confirm_after must be at least 1");
   require(p.up_hint.allFinite() && p.up_hint.norm() > 1e-6f, "up_hint must be a finite non-zero vector");
   require(std::isfinite(p.ground_max_angle) && p.ground_max_angle > 0 && p.ground_max_angle < 1.5f,

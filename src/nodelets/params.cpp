@@ -111,6 +111,7 @@ TrackerParams readTrackerParams(const ros::NodeHandle& nh)
   readFloat(nh, "min_head_distance", p.min_head_distance);
   readFloat(nh, "gate", p.gate);
   nh.param("lost_after", p.lost_after, p.lost_after);
+  nh.param("hidden_lost_after", p.hidden_lost_after, p.hidden_lost_after);
   nh.param("confirm_after", p.confirm_after, p.confirm_after);
   readFloat(nh, "camera_height", p.camera_height);
   readFloat(nh, "camera_pitch", p.camera_pitch);

@@ -31,10 +31,11 @@ struct CrossingResult
 };
 
 /** Renders @p seconds of the walkers at 30 fps (640x480, f = 525, depth noise), tracks and scores them. */
-CrossingResult runCrossing(const std::vector<Walker>& walkers, double seconds)
+CrossingResult runCrossing(const std::vector<Walker>& walkers, double seconds,
+                           const TrackerParams& params = TrackerParams())
 {
   const SceneCamera cam(1.1f, 0.08f, 640, 480, 525.0f);
-  PeopleTracker tracker;
+  PeopleTracker tracker(params);
   std::vector<TrackingFrame> frames;
   CrossingResult out;
   const double dt = 1.0 / 30.0;
@@ -102,6 +103,26 @@ TEST(TrackerCrossing, PathsCrossingOnTheFloorKeepTheirIds)
   EXPECT_EQ(r.scores.id_switches, 0u) << describe(r.scores);
   EXPECT_EQ(r.scores.predicted_ids, 2u) << describe(r.scores);
   EXPECT_GE(r.scores.idf1(), 0.9) << describe(r.scores);
+}
+
+TEST(TrackerCrossing, APersonHiddenBehindAnotherForASecondKeepsTheirId)
+{
+  // A stands at 2.4 m; B walks slowly (0.5 m/s) across 1.2 m behind A and is out of sight for
+  // about a second, longer than lost_after (0.5 s): B comes back under their own id because their
+  // track is kept while its predicted place lies in A's shadow.
+  const std::vector<Walker> walkers = { { Figure{ { 0.0f, 2.4f }, 1.75f }, Eigen::Vector2f(0.0f, 0.0f) },
+                                        { Figure{ { -1.4f, 3.6f }, 1.7f, 40, 200, 40 }, Eigen::Vector2f(0.5f, 0.0f) } };
+  const CrossingResult r = runCrossing(walkers, 5.6);
+  EXPECT_GE(r.occluded_frames, 20) << "B should be hidden for longer than lost_after (else this tests little)";
+  EXPECT_EQ(r.scores.id_switches, 0u) << describe(r.scores);
+  EXPECT_EQ(r.scores.predicted_ids, 2u) << describe(r.scores);
+  EXPECT_EQ(r.scores.false_positives, 0u) << describe(r.scores);
+
+  // Without the re-identification (hidden_lost_after = lost_after) B gets a new id: what the test sees.
+  TrackerParams p;
+  p.hidden_lost_after = p.lost_after;
+  const CrossingResult plain = runCrossing(walkers, 5.6, p);
+  EXPECT_GE(plain.scores.id_switches, 1u) << describe(plain.scores);
 }
 
 TEST(TrackerCrossing, TheScoringSeesASwapOfIds)
