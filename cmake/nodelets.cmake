@@ -6,7 +6,8 @@ pkg_check_modules(OPENNI2 REQUIRED libopenni2)
 # Stage types (zero-copy message traits) and parameter reading, shared by every nodelet.
 add_library(action_flow_ros src/nodelets/stage_types.cpp src/nodelets/params.cpp src/nodelets/input_checks.cpp)
 add_dependencies(action_flow_ros ${PROJECT_NAME}_generate_messages_cpp)
-target_link_libraries(action_flow_ros action_flow_core ${catkin_LIBRARIES})
+find_package(ZLIB REQUIRED)
+target_link_libraries(action_flow_ros action_flow_core ${catkin_LIBRARIES} ZLIB::ZLIB)
 
 # Flow, descriptor and classifier stages, the image guard and the annotator (OpenCV draws).
 add_library(action_flow_nodelets

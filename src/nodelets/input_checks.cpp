@@ -2,8 +2,11 @@
 
 #include <pcl_conversions/pcl_conversions.h>
 
+#include <zlib.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 
 namespace action_flow
@@ -123,6 +126,34 @@ std::string checkCameraInfo(const sensor_msgs::CameraInfo& m)
   if (!positive(m.P[0]) || !positive(m.P[5]) || !std::isfinite(m.P[2]) || !std::isfinite(m.P[6]))
     return "has a projection P that is not finite with positive focal lengths";
   return "";
+}
+
+std::string checkPng(const std::vector<std::uint8_t>& data)
+{
+  static const std::uint8_t signature[8] = { 0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n' };
+  if (data.size() < 8 || std::memcmp(data.data(), signature, 8) != 0)
+    return "";
+  const auto be32 = [&](std::size_t at) {
+    return std::uint32_t(data[at]) << 24 | std::uint32_t(data[at + 1]) << 16 | std::uint32_t(data[at + 2]) << 8 |
+           std::uint32_t(data[at + 3]);
+  };
+  for (std::size_t at = 8;;)
+  {
+    if (data.size() - at < 12)
+      return "is a PNG cut short at byte " + number(at) + " (no IEND chunk)";
+    const std::uint64_t length = be32(at);
+    if (length > data.size() - at - 12)
+      return "is a PNG whose chunk at byte " + number(at) + " claims " + number(length) + " bytes, past the end";
+    const std::string type(reinterpret_cast<const char*>(&data[at + 4]), 4);
+    if (at == 8 && type != "IHDR")
+      return "is a PNG that does not start with an IHDR chunk";
+    const auto crc = crc32(crc32(0L, Z_NULL, 0), &data[at + 4], static_cast<uInt>(length + 4));
+    if (crc != be32(at + 8 + length))
+      return "is a PNG with a CRC error in its chunk at byte " + number(at);
+    if (type == "IEND")
+      return "";
+    at += 12 + length;
+  }
 }
 
 InputCloud::ConstPtr InputCloud::of(boost::shared_ptr<const Cloud> cloud)

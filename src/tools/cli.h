@@ -4,6 +4,8 @@
 
 #include <action_flow/action_model.h>
 
+#include <pcl/console/print.h>
+
 #include <cstdio>
 #include <functional>
 #include <map>
@@ -36,6 +38,9 @@ public:
  */
 inline int runTool(const char* tool, const std::function<int()>& body)
 {
+  // PCL's console (RANSAC on a degenerate cloud, a field without a match) comments on inputs the
+  // tools check and report themselves: stderr keeps the tools' own lines (progress, one error).
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   try
   {
     return body();

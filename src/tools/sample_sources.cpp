@@ -156,6 +156,9 @@ private:
 
   void readDepth(const sensor_msgs::CompressedImage& msg)
   {
+    const std::string damage = checkPng(msg.data);
+    if (!damage.empty())
+      fail(topics_.depth + "/compressed", "an image that " + damage);
     const cv::Mat png = cv::imdecode(msg.data, cv::IMREAD_UNCHANGED);
     if (png.empty() || png.type() != CV_16UC1)
       fail(topics_.depth + "/compressed", "not a 16-bit PNG depth image (format '" + msg.format + "')");
@@ -189,6 +192,9 @@ private:
 
   void readColour(const sensor_msgs::CompressedImage& msg)
   {
+    const std::string damage = checkPng(msg.data);
+    if (!damage.empty())
+      fail(topics_.rgb + "/compressed", "an image that " + damage);
     const cv::Mat bgr = cv::imdecode(msg.data, cv::IMREAD_COLOR);
     if (bgr.empty())
       fail(topics_.rgb + "/compressed", "cannot decode the image (format '" + msg.format + "')");

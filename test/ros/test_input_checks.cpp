@@ -199,3 +199,30 @@ TEST(InputChecks, FuzzedCloudHeadersNeverGetPastTheCheckWrong)
   EXPECT_GT(converted, 0) << "some mutations (of unused fields) are harmless and must pass";
   std::printf("fuzzed clouds: %d refused, %d converted\n", refused, converted);
 }
+
+// checkPng walks the chunks of a PNG before libpng sees it. A 1x1 16-bit grey PNG built by hand:
+// its CRCs computed with zlib (IEND's is the well-known AE 42 60 82).
+TEST(InputChecks, APngIsCheckedChunkByChunk)
+{
+  const std::vector<std::uint8_t> png = {
+    0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n',
+    0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 0, 0, 1, 0, 0, 0, 1, 16, 0, 0, 0, 0, 0x6a, 0xee, 0x47, 0x16,
+    0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82 };
+  EXPECT_EQ(checkPng(png), "");
+  EXPECT_EQ(checkPng({ 0xff, 0xd8, 0xff, 0xe0, 1, 2, 3 }), "") << "not a PNG (a JPEG's start): left to the decoder";
+
+  std::vector<std::uint8_t> flipped = png;
+  flipped[20] ^= 0x01;  // the width's last byte
+  EXPECT_NE(checkPng(flipped).find("CRC error in its chunk at byte 8"), std::string::npos) << checkPng(flipped);
+
+  const std::vector<std::uint8_t> cut(png.begin(), png.end() - 12);
+  EXPECT_NE(checkPng(cut).find("cut short at byte 33"), std::string::npos) << checkPng(cut);
+
+  std::vector<std::uint8_t> huge = png;
+  huge[8] = 0x7f;  // IHDR claims about 2 GB
+  EXPECT_NE(checkPng(huge).find("past the end"), std::string::npos) << checkPng(huge);
+
+  std::vector<std::uint8_t> no_header = png;
+  no_header[12] = 'X';
+  EXPECT_NE(checkPng(no_header).find("does not start with an IHDR"), std::string::npos) << checkPng(no_header);
+}

@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace action_flow
 {
@@ -48,6 +49,14 @@ std::string checkImage(const sensor_msgs::Image& m);
 
 /** @brief What is wrong with @p m, or "": positive size, finite positive focal lengths in K and P, finite centres. */
 std::string checkCameraInfo(const sensor_msgs::CameraInfo& m);
+
+/**
+ * @brief What is wrong with the PNG file in @p data, or "" when it is whole: an IHDR chunk first,
+ *        every chunk inside the data with its CRC right, an IEND chunk. Data that is not a PNG (no
+ *        PNG signature: a JPEG, say) gives "". Checked before decoding, so that a damaged file is
+ *        refused with this line instead of libpng's own messages on stderr.
+ */
+std::string checkPng(const std::vector<std::uint8_t>& data);
 
 /** @brief The people tracker's input: a cloud, or why the message that should have been one was refused. */
 struct InputCloud
