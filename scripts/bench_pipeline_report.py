@@ -48,6 +48,8 @@ def table(s):
         ("RSS (MB): first / last / max", "%s / %s / %s" % (fmt(rss["first"], ".0f"), fmt(rss["last"], ".0f"),
                                                             fmt(rss["max"], ".0f"))),
         ("RSS growth, 2nd -> last quarter (MB per 1000 frames)", fmt(s["rss_growth_mb_per_1000_frames"], ".2f")),
+        ("malformed messages mixed in (one after every N-th frame)",
+         "%d (N = %d)" % (s.get("bad_messages", 0), s.get("bad_every", 0)) if s.get("bad_every") else "none"),
         ("wall time (s)", fmt(s["wall_s"])),
         ("load average at start / end", "%s / %s" % (s["load_average_start"], s["load_average_end"])),
     ]

@@ -16,6 +16,7 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include <sys/resource.h>
 
@@ -111,7 +112,12 @@ nlohmann::json percentiles(const bench::StageSamples& s)
  * `in_flight` (mode max: frames published and not yet answered, 1), `timeout` (s: a frame
  * without states after this long counts as dropped), `sample_every` (100 frames between
  * memory/CPU samples), `progress_every` (1000), `output_dir`, `shutdown_when_done` (true: end the
- * manager when the results are written, so that a launch with a required manager returns).
+ * manager when the results are written, so that a launch with a required manager returns),
+ * `bad_every` (0: off; N: after every N-th measured frame one malformed message, of six kinds in
+ * turn: depth data cut short, a 0x0 colour image, an unknown encoding, a camera_info with NaN
+ * intrinsics, a depth step beyond its data, and a PointCloud2 on `cloud_topic` that claims a
+ * million points it does not carry; each must be dropped by the checks and the next good frame
+ * served) and `cloud_topic` (the tracker's input, camera/depth_registered/points_from_images).
  * Subscribes `states` (ActionStates) and `labels` (ActionLabel).
  * Writes into output_dir: summary.json, samples.csv, frames.csv, labels.csv.
  */
@@ -176,6 +182,8 @@ private:
     pnh.param("progress_every", progress_every_, progress_every_);
     pnh.param("output_dir", output_dir_, output_dir_);
     pnh.param("shutdown_when_done", shutdown_when_done_, shutdown_when_done_);
+    pnh.param("bad_every", bad_every_, bad_every_);
+    pnh.param("cloud_topic", cloud_topic_, cloud_topic_);
 
     std::string error;
     if (bag_paths_.empty())
@@ -189,6 +197,8 @@ private:
       error = "~rate must be > 0 in mode rate";
     else if (!(timeout_ > 0.0))
       error = "~timeout must be > 0";
+    else if (bad_every_ < 0)
+      error = "~bad_every must be >= 0";
     if (!error.empty())
     {
       // Loaded without a job (e.g. by a test that loads every class): say so and stay idle.
@@ -200,6 +210,8 @@ private:
     rgb_pub_ = nh.advertise<sensor_msgs::Image>(rgb_topic_, 5);
     depth_pub_ = nh.advertise<sensor_msgs::Image>(depth_topic_, 5);
     info_pub_ = nh.advertise<sensor_msgs::CameraInfo>(info_topic_, 5);
+    if (bad_every_ > 0)
+      cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>(cloud_topic_, 5);
     states_sub_ = nh.subscribe("states", 100, &BenchPlayerNodelet::onStates, this);
     labels_sub_ = nh.subscribe("labels", 100, &BenchPlayerNodelet::onLabel, this);
     // Opened here and closed at unload, never on the player's thread: rosbag::Bag loads and unloads
@@ -371,6 +383,46 @@ private:
     return index;
   }
 
+  /** Publishes malformed message number @p n (one of six kinds in turn), stamped between frames. */
+  void publishBad(std::size_t n)
+  {
+    const Frame& src = frames_in_memory_[n % frames_in_memory_.size()];
+    const ros::Time stamp = nextStamp();
+    auto depth = boost::make_shared<sensor_msgs::Image>(*src.depth);
+    auto rgb = boost::make_shared<sensor_msgs::Image>(*src.rgb);
+    auto info = boost::make_shared<sensor_msgs::CameraInfo>(*src.info);
+    depth->header.stamp = rgb->header.stamp = info->header.stamp = stamp;
+    switch (n % 6)
+    {
+      case 0: depth->data.resize(depth->data.size() / 3); depth_pub_.publish(depth); break;
+      case 1: rgb->width = rgb->height = 0; rgb->data.clear(); rgb_pub_.publish(rgb); break;
+      case 2: rgb->encoding = "yuv9"; rgb_pub_.publish(rgb); break;
+      case 3: info->K[0] = std::numeric_limits<double>::quiet_NaN(); info_pub_.publish(info); break;
+      case 4: depth->step = 1u << 30; depth_pub_.publish(depth); break;
+      default:
+      {
+        auto cloud = boost::make_shared<sensor_msgs::PointCloud2>();
+        cloud->header = depth->header;
+        cloud->width = 1000000;
+        cloud->height = 1;
+        cloud->point_step = 16;
+        cloud->row_step = 16000000;
+        sensor_msgs::PointField f;
+        f.datatype = sensor_msgs::PointField::FLOAT32;
+        f.count = 1;
+        for (const char* name : { "x", "y", "z" })
+        {
+          f.name = name;
+          cloud->fields.push_back(f);
+          f.offset += 4;
+        }
+        cloud->data.resize(4096);
+        cloud_pub_.publish(cloud);
+      }
+    }
+    ++bad_sent_;
+  }
+
   /** Counts pending frames older than the timeout as dropped. Call with mutex_ held. */
   void dropExpired(double now)
   {
@@ -464,6 +516,8 @@ private:
       }
       publishFrame(next++);
       const int done = i + 1;
+      if (bad_every_ > 0 && done % bad_every_ == 0)
+        publishBad(static_cast<std::size_t>(done / bad_every_));
       if (done % sample_every_ == 0 && done < frames_)
       {
         if (mode_ == "max")
@@ -528,9 +582,10 @@ private:
           ++answered;
         }
     }
-    NODELET_INFO("bench_player: %d/%d frames, %.1f fps, %.2f cores, latency median %.1f ms p95 %.1f ms, RSS %.0f MB",
+    NODELET_INFO("bench_player: %d/%d frames, %.1f fps, %.2f cores, latency median %.1f ms p95 %.1f ms, RSS %.0f MB%s",
                  done, frames_, answered / wall, (processCpuSeconds() - start_cpu_) / wall,
-                 latency.empty() ? 0.0 : latency.median(), latency.empty() ? 0.0 : latency.p95(), residentMb());
+                 latency.empty() ? 0.0 : latency.median(), latency.empty() ? 0.0 : latency.p95(), residentMb(),
+                 bad_every_ > 0 ? (", " + std::to_string(bad_sent_) + " bad messages").c_str() : "");
   }
 
   /**
@@ -668,6 +723,8 @@ private:
     j["label_latency_ms"] = percentiles(label_latency);
     j["label_window_end_latency_ms"] = percentiles(window_end_latency);
     j["labels"] = labels_.size();
+    j["bad_every"] = bad_every_;
+    j["bad_messages"] = bad_sent_;
     j["rss_mb"] = { { "first", samples_.empty() ? 0.0 : samples_.front().rss },
                     { "last", samples_.empty() ? 0.0 : samples_.back().rss },
                     { "max", rss_max } };
@@ -705,12 +762,15 @@ private:
   int progress_every_ = 1000;
   std::string output_dir_;
   bool shutdown_when_done_ = true;
+  int bad_every_ = 0;
+  std::string cloud_topic_ = "camera/depth_registered/points_from_images";
 
   // input
   std::vector<Frame> frames_in_memory_;
   double bag_bytes_ = 0;
   std::uint32_t width_ = 0, height_ = 0;
-  ros::Publisher rgb_pub_, depth_pub_, info_pub_;
+  ros::Publisher rgb_pub_, depth_pub_, info_pub_, cloud_pub_;
+  std::size_t bad_sent_ = 0;  // the player thread's
   ros::Subscriber states_sub_, labels_sub_;
   std::uint64_t last_stamp_us_ = 0;
 
