@@ -39,6 +39,14 @@ endif()
 # in-memory synthetic frames to depth_image_proc and the stages in the same manager and measures
 # fps, CPU, latency and memory. Needs the ROS part.
 if(TARGET action_flow_ros)
+  # Depth image to cloud: depth_image_proc's conversion (the live path, then the tracker's check
+  # and copy) beside the tools' own depthToCloud, on the same frame.
+  find_package(image_geometry QUIET)
+  if(image_geometry_FOUND)
+    target_compile_definitions(bench PRIVATE ACTION_FLOW_BENCH_DEPTH)
+    target_include_directories(bench SYSTEM PRIVATE ${image_geometry_INCLUDE_DIRS})
+    target_link_libraries(bench action_flow_ros ${image_geometry_LIBRARIES})
+  endif()
   add_library(action_flow_bench_nodelet src/bench/bench_player_nodelet.cpp)
   target_link_libraries(action_flow_bench_nodelet action_flow_ros ${catkin_LIBRARIES})
   install(TARGETS action_flow_bench_nodelet

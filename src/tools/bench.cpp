@@ -23,6 +23,15 @@
 #ifdef ACTION_FLOW_BENCH_TRACKER
 #include <action_flow/people_tracker.h>
 #endif
+#ifdef ACTION_FLOW_BENCH_DEPTH
+#include <action_flow/depth_cloud.h>
+#include <action_flow/ros/input_checks.h>
+#include <depth_image_proc/depth_conversions.h>
+#include <image_geometry/pinhole_camera_model.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <boost/make_shared.hpp>
+#include <cstring>
+#endif
 
 #include <Eigen/Geometry>
 
@@ -508,7 +517,7 @@ void benchClassification(const Options& o)
 // Renders the frames once, cuts out the person (the renderer's mask), voxelises it at every size,
 // and times the people tracker on the full frames on the way.
 void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>>& by_voxel, StageSamples& tracker_time,
-                   std::size_t& tracker_people)
+                   std::size_t& tracker_people, Cloud& last_frame)
 {
 #ifdef ACTION_FLOW_BENCH_TRACKER
   std::unique_ptr<PeopleTracker> tracker;
@@ -517,6 +526,7 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
 #endif
   auto addFrame = [&](const Cloud& full, const std::vector<std::uint8_t>& mask, double stamp, bool first,
                       const Eigen::Vector4f& ground) {
+    last_frame = full;
     Cloud person;
     for (std::size_t k = 0; k < full.size(); ++k)
       if (mask[k] && std::isfinite(full.points[k].z))
@@ -583,6 +593,79 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
   }
 }
 
+#ifdef ACTION_FLOW_BENCH_DEPTH
+// Depth image to organized XYZRGB cloud, 640x480: the live pipeline's path (depth_image_proc's
+// conversion into a PointCloud2 with rgb, as its point_cloud_xyzrgb nodelet does, then the
+// tracker's header check and copy into a pcl cloud) against the tools' depthToCloud (16-bit
+// millimetres to metres, then straight into the pcl cloud) on the same frame.
+void benchDepthConversion(const Options& o, const Cloud& frame)
+{
+  const int w = static_cast<int>(frame.width), h = static_cast<int>(frame.height);
+  if (w * h == 0 || frame.height < 2)
+    return;
+  auto depth = boost::make_shared<sensor_msgs::Image>();
+  depth->width = frame.width, depth->height = frame.height;
+  depth->encoding = "16UC1";
+  depth->step = 2 * frame.width;
+  depth->data.resize(depth->step * frame.height);
+  std::vector<std::uint8_t> rgb(3 * frame.size());
+  for (std::size_t i = 0; i < frame.size(); ++i)
+  {
+    const float z = frame.points[i].z;
+    const std::uint16_t mm = std::isfinite(z) ? static_cast<std::uint16_t>(z * 1000.0f + 0.5f) : 0;
+    std::memcpy(&depth->data[2 * i], &mm, 2);
+    rgb[3 * i] = frame.points[i].r, rgb[3 * i + 1] = frame.points[i].g, rgb[3 * i + 2] = frame.points[i].b;
+  }
+  sensor_msgs::CameraInfo info;
+  info.width = frame.width, info.height = frame.height;
+  info.K = { 525.0, 0, 319.5, 0, 525.0, 239.5, 0, 0, 1 };
+  info.P = { 525.0, 0, 319.5, 0, 0, 525.0, 239.5, 0, 0, 0, 1, 0 };
+  info.R = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  image_geometry::PinholeCameraModel model;
+  model.fromCameraInfo(info);
+
+  StageSamples dip, ours;
+  std::vector<float> metres(frame.size());
+  for (int rep = 0; rep < 200; ++rep)
+  {
+    {
+      Stopwatch t(o.clock);
+      auto cloud = boost::make_shared<sensor_msgs::PointCloud2>();
+      cloud->header = depth->header;
+      cloud->width = frame.width, cloud->height = frame.height;
+      cloud->is_dense = false;
+      sensor_msgs::PointCloud2Modifier mod(*cloud);
+      mod.setPointCloud2Fields(4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32,
+                               "z", 1, sensor_msgs::PointField::FLOAT32, "rgb", 1, sensor_msgs::PointField::FLOAT32);
+      depth_image_proc::convert<std::uint16_t>(depth, cloud, model);
+      sensor_msgs::PointCloud2Iterator<std::uint8_t> r(*cloud, "r"), g(*cloud, "g"), b(*cloud, "b");
+      for (std::size_t i = 0; i < frame.size(); ++i, ++r, ++g, ++b)
+        *r = rgb[3 * i], *g = rgb[3 * i + 1], *b = rgb[3 * i + 2];
+      InputCloud in;
+      InputCloud::fromWire(*cloud, in);
+      dip.add(t.seconds());
+      if (!in.cloud || in.cloud->size() != frame.size())
+        throw std::runtime_error("depth_image_proc's cloud did not pass the tracker's check: " + in.error);
+    }
+    {
+      Stopwatch t(o.clock);
+      for (std::size_t i = 0; i < frame.size(); ++i)
+      {
+        std::uint16_t mm;
+        std::memcpy(&mm, &depth->data[2 * i], 2);
+        metres[i] = mm * 0.001f;
+      }
+      Cloud out;
+      Intrinsics k;
+      depthToCloud(metres.data(), rgb.data(), w, h, k, out);
+      ours.add(t.seconds());
+    }
+  }
+  header("### Depth image to cloud, 640x480 (ours = depthToCloud; base = depth_image_proc + the tracker's check and copy)");
+  row("depth image to cloud", ours, &dip);
+}
+#endif
+
 int main(int argc, char** argv)
 {
   const Options o = parse(argc, argv);
@@ -591,9 +674,13 @@ int main(int argc, char** argv)
     std::map<float, std::vector<PersonSequence>> by_voxel;
     StageSamples tracker_time;
     std::size_t tracker_people = 0;
-    collectFrames(o, by_voxel, tracker_time, tracker_people);
+    Cloud last_frame;
+    collectFrames(o, by_voxel, tracker_time, tracker_people, last_frame);
     for (float voxel : o.voxels)
       benchFlow(o, voxel, by_voxel[voxel]);
+#ifdef ACTION_FLOW_BENCH_DEPTH
+    benchDepthConversion(o, last_frame);
+#endif
     if (!tracker_time.empty())
     {
       header("### People tracker on full 640x480 clouds (PeopleTracker::update)");
