@@ -44,6 +44,10 @@ if(CATKIN_ENABLE_TESTING)
   catkin_run_tests_target(install install_space test_install_space.xml
     COMMAND "'${PROJECT_SOURCE_DIR}/test/install/test_install_space.sh' '${CMAKE_BINARY_DIR}' '${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/test_install_space.xml'"
     WORKING_DIRECTORY ${CMAKE_BINARY_DIR})
+  # rosrun finds the tools in the devel space (about 2 s).
+  catkin_run_tests_target(devel rosrun test_devel_rosrun.xml
+    COMMAND "'${PROJECT_SOURCE_DIR}/test/install/test_devel_rosrun.sh' '${CATKIN_DEVEL_PREFIX}' '${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/test_devel_rosrun.xml'"
+    WORKING_DIRECTORY ${CMAKE_BINARY_DIR})
   # catkin_lint -W2 --strict on the package (about 1 s).
   catkin_run_tests_target(lint catkin_lint test_catkin_lint.xml
     COMMAND "'${PROJECT_SOURCE_DIR}/test/install/test_catkin_lint.sh' '${PROJECT_SOURCE_DIR}' '${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/test_catkin_lint.xml'"

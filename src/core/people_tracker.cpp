@@ -112,20 +112,22 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
   for (std::size_t i = 0; i < s.tracks.size(); ++i)
   {
     const float unseen = static_cast<float>(stamp - s.tracks[i].last_seen);
-    const float gate = std::min(2.0f * params_.gate, params_.gate + kGateGrowth * std::max(0.0f, unseen - 0.1f));
+    const float wide = std::min(2.0f * params_.gate, params_.gate + kGateGrowth * std::max(0.0f, unseen - 0.1f));
     for (std::size_t j = 0; j < det.people.size(); ++j)
       // A weak detection (a body bending, crouching, kicking; or failing HOG) only continues a
-      // confirmed track: it neither confirms a tentative one nor starts one.
+      // confirmed track, within the plain gate: it neither confirms a tentative one nor starts one,
+      // and a track back from hiding takes only a person-like detection beyond the plain gate.
       cost(i, j) = det.people[j].weak && s.tracks[i].id == 0
                        ? 2.0f + 1e3f
-                       : flat(det.people[j].centroid - s.tracks[i].filter.position()).norm() / gate;
+                       : flat(det.people[j].centroid - s.tracks[i].filter.position()).norm() /
+                             (det.people[j].weak ? params_.gate : wide);
   }
   const std::vector<int> match = solveAssignment(cost, 1.0f);
 
-  // Hidden behind a person seen in this frame: not lost yet (re-identification when they come back).
+  // Hidden behind a person (a person-like detection) seen in this frame: not lost yet (re-identification when they come back).
   const auto hiddenBySomeone = [&](const Eigen::Vector3f& position) {
     for (const PersonDetection& d : det.people)
-      if (inShadowOf(position, d.centroid, camera_origin, flat))
+      if (!d.weak && inShadowOf(position, d.centroid, camera_origin, flat))
         return true;
     return false;
   };
