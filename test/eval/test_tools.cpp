@@ -195,3 +195,42 @@ TEST(Tools, SampleWithoutATrackedPersonIsRefused)
   std::ifstream model(d + "/m.model");
   EXPECT_FALSE(model.good()) << "a model was written from empty samples";
 }
+
+TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
+{
+  // evaluate --protocol online end to end, small: 3 training actors x 3 actions, one of them tunes
+  // the policy's thresholds with a model of the other two; one new actor's stream of 2 actions is
+  // scored. The report must name the people apart and carry every figure the protocol promises.
+  const std::string out = tempDir("online"), cache = tempDir("online_cache");
+  const Result r = run(kBin + "/evaluate --synth ias --people 3 --repetitions 1 --actions wave,kick,sit_down" +
+                       " --protocol online --stream-people 1 --stream-actions 2 --variants posture_flow --no-plots" +
+                       " --output '" + out + "' --cache '" + cache + "' --jobs 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(out + "/online.json");
+  ASSERT_TRUE(in.good()) << "no online.json: " << r.output;
+  const nlohmann::json report = nlohmann::json::parse(in);
+  const std::vector<std::string> training = report["training"]["people"];
+  EXPECT_EQ(training, (std::vector<std::string>{ "p01", "p02", "p03" }));
+  ASSERT_EQ(report["variants"].size(), 1u);
+  const nlohmann::json& v = report["variants"][0];
+  EXPECT_EQ(v["variant"], "posture_flow");
+  for (const auto& s : v["streams"])
+  {
+    const std::string name = s["stream"];
+    EXPECT_EQ(name.rfind("p04_stream_", 0), 0u) << "only the new actor's streams are tested: " << name;
+  }
+  const nlohmann::json& t = v["test"];
+  for (const char* key : { "f1", "precision", "recall", "frame_accuracy", "false_per_minute", "idle_false_per_minute",
+                           "median_start_latency_s", "median_end_latency_s", "truths" })
+    EXPECT_TRUE(t.contains(key)) << key;
+  EXPECT_EQ(t["truths"], 2) << "two actions in the stream";
+  EXPECT_GE(t["f1"].get<double>(), 0.0);
+  EXPECT_LE(t["f1"].get<double>(), 1.0);
+  EXPECT_GE(t["frame_accuracy"].get<double>(), 0.0);
+  EXPECT_LE(t["frame_accuracy"].get<double>(), 1.0);
+
+  // Out of range: a usage error naming the option.
+  const Result bad = run(kBin + "/evaluate --synth ias --protocol online --stream-actions 1 --output '" + out + "'");
+  EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
+  EXPECT_NE(bad.output.find("--stream-actions"), std::string::npos) << bad.output;
+}
