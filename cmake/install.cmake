@@ -2,8 +2,10 @@
 # the user scripts, the nodelets' plugin description without the test aids, the license; and the
 # tests of the install space and of catkin_lint (test/install/).
 
-# User scripts, run with rosrun action_flow <script> (catkin_install_python points their #! line
-# at the system's python3). The source-tree scripts (scripts/setup, test, demo, fuzz,
+# User scripts, run with rosrun action_flow <script>; their #! line is the system's /usr/bin/python3.
+# Installed with install(PROGRAMS), not catkin_install_python: that also puts a relay of each in the
+# devel space, which sits inside the package (devel/), so rosrun would find every script twice there
+# (the relay and the source) and refuse it as non-unique. The source-tree scripts (scripts/setup, test, demo, fuzz,
 # run_experiments, bench_pipeline) build and run the checkout and stay out of the install space.
 set(ACTION_FLOW_USER_SCRIPTS
   scripts/label_bag.py
@@ -15,7 +17,7 @@ set(ACTION_FLOW_USER_SCRIPTS
   scripts/bench_pipeline_report.py
   scripts/results_table.py
   scripts/validate_report.py)
-catkin_install_python(PROGRAMS ${ACTION_FLOW_USER_SCRIPTS} DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(PROGRAMS ${ACTION_FLOW_USER_SCRIPTS} DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 # evaluate draws its report with <package path>/scripts/plot_report.py (and plot_timeline.py for the
 # online protocol, plot_tracks.py for evaluate_tracking, plot_detection.py for the detection protocol): a copy there,
 # not executable, so that rosrun finds one executable of each name.

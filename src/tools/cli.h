@@ -13,6 +13,9 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <vector>
+#include <algorithm>
 
 namespace action_flow
 {
@@ -65,6 +68,17 @@ inline int runTool(const char* tool, const std::function<int()>& body)
     std::fprintf(stderr, "%s: %s\n", tool, e.what());
     return 1;
   }
+}
+
+/** Runs @p worker on max(1, @p jobs) threads at once and waits for all of them (the workers take
+ *  their items from a shared counter and keep their own error; nothing may escape a worker). */
+inline void runWorkers(int jobs, const std::function<void()>& worker)
+{
+  std::vector<std::thread> pool;
+  for (int j = 0; j < std::max(1, jobs); ++j)
+    pool.emplace_back(worker);
+  for (auto& t : pool)
+    t.join();
 }
 
 class Args

@@ -285,11 +285,7 @@ std::vector<SceneOutcome> runAll(const std::vector<synth::SampleSpec>& specs, co
                    secs / n * (specs.size() - n));
     }
   };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < jobs; ++j)
-    pool.emplace_back(worker);
-  for (auto& t : pool)
-    t.join();
+  runWorkers(jobs, worker);
   if (!error.empty())
     throw std::runtime_error(error);
   return out;

@@ -210,11 +210,7 @@ std::vector<SceneResult> runAll(const std::vector<synth::SampleSpec>& specs, flo
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     }
   };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < jobs; ++j)
-    pool.emplace_back(worker);
-  for (auto& t : pool)
-    t.join();
+  tools::runWorkers(jobs, worker);
   if (!error.empty())
     throw std::runtime_error(error);
   return results;

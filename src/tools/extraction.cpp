@@ -164,11 +164,7 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
                      samples.size(), cached.load(), secs, eta);
     }
   };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < std::max(1, jobs); ++j)
-    pool.emplace_back(worker);
-  for (auto& t : pool)
-    t.join();
+  runWorkers(jobs, worker);
   if (terminal)
     std::fprintf(stderr, "\n");
   // From here on nothing is half-written (reports are renamed into place): Ctrl-C ends the tool.

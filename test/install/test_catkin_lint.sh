@@ -38,17 +38,5 @@ else
   fi
 fi
 secs=$(/usr/bin/python3 -c "import sys; print(f'{float(sys.argv[2]) - float(sys.argv[1]):.2f}')" "$start" "$(date +%s.%N)")
-/usr/bin/python3 - "$RESULT" "$status" "$secs" "$message" <<'PY'
-import sys
-import xml.etree.ElementTree as ET
-path, status, secs, message = sys.argv[1:5]
-suite = ET.Element("testsuite", name="catkin_lint", tests="1", failures=str(int(status == "fail")),
-                   errors="0", skipped=str(int(status == "skipped")), time=secs)
-case = ET.SubElement(suite, "testcase", classname="catkin_lint", name="catkin_lint_W2_strict", time=secs)
-if status == "fail":
-    ET.SubElement(case, "failure", message=message[:300]).text = message
-elif status == "skipped":
-    ET.SubElement(case, "skipped", message=message).text = message
-ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-PY
+/usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/junit_case.py" "$RESULT" catkin_lint catkin_lint_W2_strict "$status" "$secs" "$message"
 [ "$status" != fail ]

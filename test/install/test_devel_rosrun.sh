@@ -28,15 +28,5 @@ for tool in train evaluate synth label_bag.py; do
 done
 [ "$status" = pass ] && echo "[  PASSED  ] devel.rosrun: train, evaluate, synth, label_bag.py"
 secs=$(/usr/bin/python3 -c "import sys; print(f'{float(sys.argv[2]) - float(sys.argv[1]):.2f}')" "$start" "$(date +%s.%N)")
-/usr/bin/python3 - "$RESULT" "$status" "$secs" "$message" <<'PY'
-import sys
-import xml.etree.ElementTree as ET
-path, status, secs, message = sys.argv[1:5]
-suite = ET.Element("testsuite", name="devel_rosrun", tests="1", failures=str(int(status == "fail")),
-                   errors="0", skipped="0", time=secs)
-case = ET.SubElement(suite, "testcase", classname="devel_rosrun", name="rosrun_finds_the_tools", time=secs)
-if status == "fail":
-    ET.SubElement(case, "failure", message=message[:300]).text = message
-ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-PY
+/usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/junit_case.py" "$RESULT" devel_rosrun rosrun_finds_the_tools "$status" "$secs" "$message"
 [ "$status" != fail ]
