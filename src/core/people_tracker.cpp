@@ -3,7 +3,6 @@
 #include <action_flow/tracker_detector.h>
 
 #include <cmath>
-#include <functional>
 #include <stdexcept>
 
 namespace action_flow
@@ -27,19 +26,45 @@ constexpr float kShadowHalfWidth = 0.45f;
 
 /**
  * Whether @p hidden (a predicted position) lies in the shadow of @p front (a person seen in this
- * frame) as the camera at @p origin sees them, measured on the ground plane (@p flat removes the
- * up component): @p front is nearer, and the line of sight to @p hidden passes within the front
- * person's shadow, which widens with distance behind them.
+ * frame) as the camera at @p origin sees them, measured on the ground plane (@p up, unit or zero):
+ * @p front is nearer, and the line of sight to @p hidden passes within the front person's shadow,
+ * which widens with distance behind them.
  */
 bool inShadowOf(const Eigen::Vector3f& hidden, const Eigen::Vector3f& front, const Eigen::Vector3f& origin,
-                const std::function<Eigen::Vector3f(const Eigen::Vector3f&)>& flat)
+                const Eigen::Vector3f& up)
 {
+  const auto flat = [&](const Eigen::Vector3f& d) -> Eigen::Vector3f { return d - d.dot(up) * up; };
   const Eigen::Vector3f h = flat(hidden - origin), f = flat(front - origin);
   const float dh = h.norm(), df = f.norm();
   if (!(df > 0.1f) || dh <= df)
     return false;
   const float lateral = (h - h.dot(f / df) * (f / df)).norm();  // from the line of sight through front
   return lateral < kShadowHalfWidth * dh / df;
+}
+/**
+ * The association costs: horizontal distance between each track's prediction and each detection
+ * (a person bending is still the same person), in units of the track's gate (wider while unseen;
+ * the plain @p gate for a weak detection), so that solveAssignment gates them at 1. A weak detection
+ * (a body bending, crouching, kicking; or failing HOG) only continues a confirmed track: it neither
+ * confirms a tentative one nor starts one, and a track back from hiding takes only a person-like
+ * detection beyond the plain gate.
+ */
+Eigen::MatrixXf associationCosts(const std::vector<Track>& tracks, const std::vector<PersonDetection>& people,
+                                 const Eigen::Vector3f& up, double stamp, float gate)
+{
+  Eigen::MatrixXf cost(tracks.size(), people.size());
+  for (std::size_t i = 0; i < tracks.size(); ++i)
+  {
+    const float unseen = static_cast<float>(stamp - tracks[i].last_seen);
+    const float wide = std::min(2.0f * gate, gate + kGateGrowth * std::max(0.0f, unseen - 0.1f));
+    for (std::size_t j = 0; j < people.size(); ++j)
+    {
+      const Eigen::Vector3f d = people[j].centroid - tracks[i].filter.position();
+      cost(i, j) = people[j].weak && tracks[i].id == 0 ? 2.0f + 1e3f
+                                                       : (d - d.dot(up) * up).norm() / (people[j].weak ? gate : wide);
+    }
+  }
+  return cost;
 }
 }  // namespace
 
@@ -103,31 +128,14 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
   for (Track& t : s.tracks)
     t.filter.predict(dt);
 
-  // Gated optimal assignment on the ground: distance between prediction and detection, ignoring
-  // the height (a person bending is still the same person).
+  // Gated optimal assignment on the ground.
   const Eigen::Vector3f up = det.ground_valid ? Eigen::Vector3f(det.ground.head<3>()) : Eigen::Vector3f::Zero();
-  const auto flat = [&](const Eigen::Vector3f& d) -> Eigen::Vector3f { return d - d.dot(up) * up; };
-  // Costs in units of each track's gate (a track unseen for a while has a wider one), gated at 1.
-  Eigen::MatrixXf cost(s.tracks.size(), det.people.size());
-  for (std::size_t i = 0; i < s.tracks.size(); ++i)
-  {
-    const float unseen = static_cast<float>(stamp - s.tracks[i].last_seen);
-    const float wide = std::min(2.0f * params_.gate, params_.gate + kGateGrowth * std::max(0.0f, unseen - 0.1f));
-    for (std::size_t j = 0; j < det.people.size(); ++j)
-      // A weak detection (a body bending, crouching, kicking; or failing HOG) only continues a
-      // confirmed track, within the plain gate: it neither confirms a tentative one nor starts one,
-      // and a track back from hiding takes only a person-like detection beyond the plain gate.
-      cost(i, j) = det.people[j].weak && s.tracks[i].id == 0
-                       ? 2.0f + 1e3f
-                       : flat(det.people[j].centroid - s.tracks[i].filter.position()).norm() /
-                             (det.people[j].weak ? params_.gate : wide);
-  }
-  const std::vector<int> match = solveAssignment(cost, 1.0f);
+  const std::vector<int> match = solveAssignment(associationCosts(s.tracks, det.people, up, stamp, params_.gate), 1.0f);
 
   // Hidden behind a person (a person-like detection) seen in this frame: not lost yet (re-identification when they come back).
   const auto hiddenBySomeone = [&](const Eigen::Vector3f& position) {
     for (const PersonDetection& d : det.people)
-      if (!d.weak && inShadowOf(position, d.centroid, camera_origin, flat))
+      if (!d.weak && inShadowOf(position, d.centroid, camera_origin, up))
         return true;
     return false;
   };
