@@ -2,7 +2,8 @@
 """Draws the pictures of an evaluation report folder (written by `evaluate`).
 
 confusion_<variant>.png for every variant, accuracy_vs_frames.png (the paper's Figure 8) when
-the report has a frames sweep, and ablation.md, a table of the variants beside the paper's
+the report has a frames sweep, cross_view.png (accuracy against the test view) for the cross-view
+protocol, and ablation.md, a table of the variants beside the paper's
 numbers. Writes each file under a temporary name and renames it."""
 import json
 import os
@@ -63,6 +64,22 @@ def sweep(report, out):
     save(fig, os.path.join(out, "accuracy_vs_frames.png"))
 
 
+def cross_view(report, out):
+    cv = report["cross_view"]
+    titles = {v["variant"]: v["title"] for v in report["variants"]}
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for name, acc in cv["accuracy"].items():
+        ax.plot(cv["views"], [100 * a for a in acc], "o-", ms=4, label=titles.get(name, name))
+    ax.set_xticks(cv["views"])
+    ax.set_xlabel("test view (degrees from facing the camera)")
+    ax.set_ylabel("accuracy (%)")
+    ax.set_ylim(0, 100)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(f"Trained facing the camera (0 +- {cv.get('train_spread', 15):g} degrees), tested from other sides")
+    save(fig, os.path.join(out, "cross_view.png"))
+
+
 def table(report, out):
     lines = ["| variant | accuracy (ours) | paper (IAS-Lab) |", "|---|---|---|"]
     for v in report["variants"]:
@@ -88,6 +105,8 @@ def main():
         confusion(v, out)
     if "frames_sweep" in report:
         sweep(report, out)
+    if "cross_view" in report:
+        cross_view(report, out)
     table(report, out)
 
 

@@ -64,6 +64,13 @@ struct PersonFrame
   static PersonFrame fromGround(const Eigen::Vector3f& centroid, const Eigen::Vector4f& ground, float height,
                                 const Eigen::Vector3f& view);
 
+  /**
+   * @brief The same frame turned about its up axis by @p angle (rad) so that z points where the
+   *        person faces: z' = sin(angle) x + cos(angle) z (0 keeps the frame; positive turns z
+   *        towards +x, the person's left when they face the camera).
+   */
+  PersonFrame turned(float angle) const;
+
   /** @brief Position of a point in grid coordinates (x across, y above the ground, z depth). */
   Eigen::Vector3f toLocal(const Eigen::Vector3f& p) const { return axes.transpose() * (p - origin); }
 };

@@ -117,6 +117,15 @@ struct TrackerParams
    *  most twice gate), so a person passing behind another comes back under their own id.
    *  Must be at least lost_after; equal to it turns the re-identification off. */
   double hidden_lost_after = 2.0;
+
+  // ---- added for orientation (evaluate --protocol cross-view) ----
+  /** The descriptor grid turns with the person: its depth axis points where they face, estimated
+   *  from their trunk's shape (facing.h: always towards the camera side, so a back view is taken as
+   *  a front view) and smoothed over facing_smoothing s. Off: the depth axis lies along the line of
+   *  sight (the paper's grid). */
+  bool align_to_facing = false;
+  /** Time constant (s) of the facing's exponential smoothing per track; 0 takes each frame's own. */
+  double facing_smoothing = 0.5;
 };
 
 /**
@@ -134,6 +143,9 @@ struct TrackedPerson
   Eigen::Vector3f velocity = Eigen::Vector3f::Zero(); ///< from the motion model (m/s)
   float height = 0.0f;                              ///< top of head above the ground
   PersonFrame frame;                                ///< where the descriptor grid sits
+  /** With align_to_facing: the facing (rad, 0 = towards the camera, facing.h) the frame is turned by,
+   *  smoothed; NaN otherwise, and while no estimate has been possible. */
+  float facing = std::numeric_limits<float>::quiet_NaN();
   /** HOG+SVM score of this frame's detection; NaN when no classifier ran (none given, unorganized cloud). */
   double hog_confidence = std::numeric_limits<double>::quiet_NaN();
   /** The person's points at person_voxel_size, in the input frame; never modified after update(). */

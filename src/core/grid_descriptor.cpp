@@ -78,6 +78,15 @@ int GridDescriptor::cellOf(const Eigen::Vector3f& local, float person_height) co
   return ix + params_.parts_x * (iy + params_.parts_y * iz);
 }
 
+PersonFrame PersonFrame::turned(float angle) const
+{
+  PersonFrame f = *this;
+  const float c = std::cos(angle), s = std::sin(angle);
+  f.axes.col(0) = c * axes.col(0) - s * axes.col(2);
+  f.axes.col(2) = s * axes.col(0) + c * axes.col(2);
+  return f;
+}
+
 Eigen::VectorXf GridDescriptor::compute(const FlowVectors& flow, const PersonFrame& person) const
 {
   Eigen::VectorXf d = Eigen::VectorXf::Zero(size());

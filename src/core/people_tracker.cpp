@@ -1,3 +1,4 @@
+#include <action_flow/facing.h>
 #include <action_flow/people_tracker.h>
 #include <action_flow/tracker_assignment.h>
 #include <action_flow/tracker_detector.h>
@@ -15,7 +16,29 @@ struct Track
   std::uint32_t id = 0;  // 0 until confirmed
   int hits = 1;
   double last_seen = 0.0;
+  // align_to_facing: the smoothed facing as (cos, sin) of twice its angle (a turn by 180 degrees is
+  // the same ellipse), zero until the first estimate.
+  Eigen::Vector2f facing2 = Eigen::Vector2f::Zero();
+  double facing_stamp = 0.0;
 };
+
+// The track's facing after this frame's estimate @p raw (NaN: none), smoothed with time constant
+// @p tau; NaN while there has been no estimate.
+float smoothFacing(Track& t, float raw, double stamp, double tau)
+{
+  if (std::isfinite(raw))
+  {
+    const Eigen::Vector2f now(std::cos(2.0f * raw), std::sin(2.0f * raw));
+    const bool first = t.facing2.isZero();
+    const double dt = std::max(0.0, stamp - t.facing_stamp);
+    const float w = first || tau <= 0.0 ? 1.0f : static_cast<float>(1.0 - std::exp(-dt / tau));
+    t.facing2 = (1.0f - w) * t.facing2 + w * now;
+    t.facing_stamp = stamp;
+  }
+  if (t.facing2.norm() < 1e-6f)
+    return std::numeric_limits<float>::quiet_NaN();
+  return 0.5f * std::atan2(t.facing2.y(), t.facing2.x());
+}
 
 // How fast an unseen track's gate widens (m/s), up to twice the gate: where a hidden person comes
 // back out is less certain the longer they were hidden.
@@ -182,7 +205,7 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
 
   for (std::size_t i = 0; i < s.tracks.size(); ++i)
   {
-    const Track& t = s.tracks[i];
+    Track& t = s.tracks[i];
     if (t.id == 0 || kept_detection[i] < 0)
       continue;
     const PersonDetection& d = det.people[kept_detection[i]];
@@ -201,6 +224,12 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
       continue;  // right below the camera: no viewing direction to set the grid by
     }
     p.cloud = s.detector.personCloud(cloud, d);
+    if (params_.align_to_facing)
+    {
+      p.facing = smoothFacing(t, facingFromTrunk(*p.cloud, p.frame), stamp, params_.facing_smoothing);
+      if (std::isfinite(p.facing))
+        p.frame = p.frame.turned(p.facing);
+    }
     result.people.push_back(std::move(p));
   }
   return result;

@@ -229,6 +229,7 @@ void validateTrackerParams(const TrackerParams& p)
   require(std::isfinite(p.hidden_lost_after) && p.hidden_lost_after >= p.lost_after,
           "hidden_lost_after must be at least lost_after");
   require(p.confirm_after >= 1, "confirm_after must be at least 1");
+  require(std::isfinite(p.facing_smoothing) && p.facing_smoothing >= 0, "facing_smoothing must be at least 0");
   require(p.up_hint.allFinite() && p.up_hint.norm() > 1e-6f, "up_hint must be a finite non-zero vector");
   require(std::isfinite(p.ground_max_angle) && p.ground_max_angle > 0 && p.ground_max_angle < 1.5f,
           "ground_max_angle must be in (0, 1.5) rad");

@@ -112,6 +112,8 @@ TrackerParams readTrackerParams(const ros::NodeHandle& nh)
   readFloat(nh, "gate", p.gate);
   nh.param("lost_after", p.lost_after, p.lost_after);
   nh.param("hidden_lost_after", p.hidden_lost_after, p.hidden_lost_after);
+  nh.param("align_to_facing", p.align_to_facing, p.align_to_facing);
+  nh.param("facing_smoothing", p.facing_smoothing, p.facing_smoothing);
   nh.param("confirm_after", p.confirm_after, p.confirm_after);
   readFloat(nh, "camera_height", p.camera_height);
   readFloat(nh, "camera_pitch", p.camera_pitch);

@@ -105,7 +105,14 @@ std::string SampleSpec::name() const
     std::snprintf(buf, sizeof buf, "_%02d", repetition);
     return scene + buf;
   }
-  return person + "_" + action + "_" + std::to_string(repetition);
+  std::string n = person + "_" + action + "_" + std::to_string(repetition);
+  if (dataset == "ias" && (facing != 0.0 || facing_spread != 30.0))
+  {
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "_f%gs%g", facing, facing_spread);
+    n += buf;
+  }
+  return n;
 }
 
 std::vector<SampleSpec> iasLabSamples(int people, int repetitions, std::uint64_t seed)
@@ -345,14 +352,22 @@ void SampleRenderer::Impl::buildIas()
     throw std::invalid_argument("unknown IAS-Lab action '" + spec.action + "'");
   if (spec.repetition < 1)
     throw std::invalid_argument("repetition must be >= 1");
+  if (!(std::abs(spec.facing) <= 180.0) || !(spec.facing_spread >= 0.0 && spec.facing_spread <= 180.0))
+    throw std::invalid_argument("facing must be in -180..180 degrees and facing_spread in 0..180");
   actor = makeActor(spec.person, spec.seed);
-  const std::uint64_t rep_seed = hash64(spec.seed, hashString(spec.name()), 0x4e9);
+  SampleSpec base = spec;  // the performance does not depend on where the actor faces
+  base.facing = 0.0;
+  base.facing_spread = 30.0;
+  const std::uint64_t rep_seed = hash64(spec.seed, hashString(base.name()), 0x4e9);
   Rng r(hash64(rep_seed, 0x91ace));
   drawCamera(r);
   const Performance perf = perform(actor, spec.action, rep_seed, camera.fps);
 
   // Place the actor: 2.5-3.5 m away, facing the camera within +-30 degrees (walkers cross the
-  // view), whole body in view for the whole sample; redraw until it fits.
+  // view) or as the spec says, whole body in view for the whole sample; redraw until it fits.
+  const float side = spec.facing == 0.0 ? 0.0f : ((hashString(base.name()) & 1) ? 1.0f : -1.0f);
+  const float facing_centre = side * float(spec.facing) * kPi / 180.0f;
+  const float spread = float(spec.facing_spread / 30.0);  // 1: the default draw, +-0.52 rad
   Eigen::Isometry3f root = Eigen::Isometry3f::Identity();
   std::vector<Skeleton> placed(perf.joints.size());
   const auto place = [&](float dist, float bearing, float facing) {
@@ -375,17 +390,17 @@ void SampleRenderer::Impl::buildIas()
   for (int attempt = 0; attempt < 40 && !ok; ++attempt)
   {
     const float dist = float(r.uniform(2.5, 3.5)), bearing = float(r.uniform(-0.22, 0.22));
-    const float facing = float(r.uniform(-0.52, 0.52)) * (perf.walks ? 0.6f : 1.0f);
+    const float facing = facing_centre + float(r.uniform(-0.52, 0.52)) * spread * (perf.walks ? 0.6f : 1.0f);
     place(dist, bearing, facing);
     ok = visible(placed, 2);
   }
   for (float dist = 2.5f; !ok && dist <= 4.21f; dist += 0.1f)
   {
-    place(dist, 0.0f, 0.0f);
+    place(dist, 0.0f, facing_centre);
     ok = visible(placed, 2);
   }
   if (!ok)
-    place(3.5f, 0.0f, 0.0f);  // cannot fit every frame: keep the nominal distance
+    place(3.5f, 0.0f, facing_centre);  // cannot fit every frame: keep the nominal distance
   world = placed;
   forward.resize(perf.forward.size());
   for (size_t f = 0; f < perf.forward.size(); ++f)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <action_flow/action_model.h>
+#include <action_flow/people_tracker.h>
 
 #include <pcl/console/print.h>
 
@@ -164,7 +165,8 @@ inline const std::set<std::string>& methodOptions()
 inline const std::set<std::string>& methodFlags()
 {
   static const std::set<std::string> o = { "pca", "no-outlier-rejection", "no-posture", "no-direction-histogram",
-                                           "single-level", "no-mirror", "mirror", "direction-histogram", "no-geometry" };
+                                           "single-level", "no-mirror", "mirror", "direction-histogram", "no-geometry",
+                                           "align-to-facing" };
   return o;
 }
 
@@ -188,7 +190,18 @@ inline const char* methodUsage()
          "  --neighbours K                  k of the k-NN classifier (default 1)\n"
          "  both:\n"
          "  --k K                           flow: nearest neighbours in XYZ (default 50)\n"
-         "  --no-outlier-rejection          skip the flow's speed and isolation rules\n";
+         "  --no-outlier-rejection          skip the flow's speed and isolation rules\n"
+         "  --align-to-facing               the tracker turns each person's grid to where they face\n"
+         "                                  (TrackerParams::align_to_facing; run the live tracker so too)\n";
+}
+
+/** The tracker's parameters from the options: the defaults, but for --align-to-facing. */
+inline TrackerParams trackerParams(const Args& a)
+{
+  TrackerParams t;
+  if (a.has("align-to-facing"))
+    t.align_to_facing = true;
+  return t;
 }
 
 /** The method's parameters from the options (defaults: the default recognizer, posture_flow). */

@@ -29,9 +29,14 @@ namespace
 {
 const char* kUsage =
     "usage: evaluate --output DIR (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
-    "  --protocol lopo|cross-subject|online|detection\n"
-    "                                  leave-one-person-out (default), train on --train-persons, or labels on\n"
-    "                                  continuous streams of new people (see below)\n"
+    "  --protocol lopo|cross-subject|cross-view|online|detection\n"
+    "                                  leave-one-person-out (default), train on --train-persons, train on people\n"
+    "                                  facing the camera and test others seen from the side and behind, or labels\n"
+    "                                  on continuous streams of new people (see below)\n"
+    "  --views a,b,...                 cross-view: the test views, degrees from frontal (default 45,90,135,180)\n"
+    "  --test-repetitions R            cross-view: repetitions of each test person's actions (default 1)\n"
+    "  --train-spread DEG              cross-view: the training people face the camera +- DEG (default 15;\n"
+    "                                  180 = seen from every side)\n"
     "  --train-persons a,b,...         cross-subject training people (default s01,s03,s05,s07,s09)\n"
     "  --actions a,b,...               evaluate on these actions only (e.g. an MSR subset)\n"
     "  --variants v1,v2,...            of posture_flow, posture_flow_no_posture, posture_flow_no_geometry, posture_flow_sums,\n"
@@ -40,8 +45,8 @@ const char* kUsage =
     "                                  meanflow, sumflow_raw, sumflow, sumflow_pca,\n"
     "                                  joints (MSR Action3D only) (default: all)\n"
     "  --frames F                      the paper's frames per sequence (default 30)\n"
-    "  --sweep N                       the paper's accuracy for 1..N frames, with and without PCA (default 40;\n"
-    "                                  0 = none)\n"
+    "  --sweep N                       the paper's accuracy for 1..N frames, with and without PCA (default 40,\n"
+    "                                  cross-view 0; 0 = none)\n"
     "  --jobs N, --cache DIR           as for train\n"
     "  --no-plots                      write no pictures\n"
     "  --allow-empty                   as for train\n";
@@ -246,6 +251,45 @@ std::vector<Variant> selectVariants(const std::vector<Variant>& all, const Args&
   return variants;
 }
 
+// Cross-view: one fold per view, all with the same training samples (those facing the camera).
+std::vector<Fold> crossViewFolds(const CrossViewSet& set)
+{
+  std::vector<Fold> folds(set.views.size());
+  std::vector<std::size_t> train;
+  for (std::size_t i = 0; i < set.view_of.size(); ++i)
+    if (set.view_of[i] < 0)
+      train.push_back(i);
+    else
+      folds[static_cast<std::size_t>(set.view_of[i])].test.push_back(i);
+  for (std::size_t v = 0; v < folds.size(); ++v)
+  {
+    char name[48];
+    std::snprintf(name, sizeof name, "view %g degrees", set.views[v]);
+    folds[v].name = name;
+    folds[v].train = train;
+  }
+  return folds;
+}
+
+// Cross-view: each variant's accuracy per view (its fold accuracies), printed as a table too.
+json crossViewTable(const CrossViewSet& set, const json& results)
+{
+  json table = { { "views", set.views }, { "train_spread", set.train_spread }, { "accuracy", json::object() } };
+  std::printf("\ncross-view accuracy (%%), trained facing the camera (0 +- %g degrees):\n%-28s", set.train_spread, "variant");
+  for (double v : set.views)
+    std::printf(" %7g", v);
+  std::printf("\n");
+  for (const json& r : results)
+  {
+    table["accuracy"][r["variant"].get<std::string>()] = r["fold_accuracy"];
+    std::printf("%-28s", r["variant"].get<std::string>().c_str());
+    for (const json& a : r["fold_accuracy"])
+      std::printf(" %7.1f", 100.0 * a.get<double>());
+    std::printf("\n");
+  }
+  return table;
+}
+
 int main(int argc, char** argv)
 {
   return runTool("evaluate", [&]() -> int {
@@ -273,9 +317,13 @@ int main(int argc, char** argv)
     // Every option is checked before any work starts.
     const RecognitionParams base = methodParams(args);
     const int jobs = jobsOption(args);
-    const int sweep = static_cast<int>(args.integer("sweep", 40, 0, 200));
-    const TrackerParams tracker;
-    std::vector<SampleRef> samples = selectSamples(args);
+    const std::string protocol = args.get("protocol", "lopo");
+    const int sweep = static_cast<int>(args.integer("sweep", protocol == "cross-view" ? 0 : 40, 0, 200));
+    const TrackerParams tracker = trackerParams(args);
+    CrossViewSet cross_view;
+    if (protocol == "cross-view")
+      cross_view = crossViewSamples(args);
+    std::vector<SampleRef> samples = protocol == "cross-view" ? cross_view.samples : selectSamples(args);
     if (samples.empty())
       throw std::invalid_argument("no samples to evaluate");
 
@@ -291,14 +339,15 @@ int main(int argc, char** argv)
     std::vector<std::string> persons;
     for (const auto& s : samples)
       persons.push_back(s.person);
-    const std::string protocol = args.get("protocol", "lopo");
     std::vector<Fold> folds;
     if (protocol == "lopo")
       folds = leaveOnePersonOut(persons);
     else if (protocol == "cross-subject")
       folds = { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
+    else if (protocol == "cross-view")
+      folds = crossViewFolds(cross_view);
     else
-      throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, online or detection)");
+      throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, cross-view, online or detection)");
     std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", samples.size(),
                  uniqueSorted(persons).size(), folds.size(), protocol.c_str());
 
@@ -356,6 +405,8 @@ int main(int argc, char** argv)
                   100 * mean_fold);
     }
     report["variants"] = results;
+    if (protocol == "cross-view")
+      report["cross_view"] = crossViewTable(cross_view, results);
 
     if (sweep > 0)
     {

@@ -82,7 +82,7 @@ std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t
   // The leading revision changes with the code of those stages (v3: a top at the image's edge no
   // longer always rejects a person; v4: posture_flow's geometry block; v5: walls removed before
   // clustering, a cut surface by its length at the image's edge, hidden people kept).
-  s << "v5 " << toString(p.recognizer) << " vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
+  s << "v6 " << toString(p.recognizer) << " vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
     << " ms" << p.flow.min_speed << " is" << p.flow.isolation_speed << " nr" << p.flow.neighbour_radius << " g"
     << p.grid.parts_x << p.grid.parts_y << p.grid.parts_z << " " << p.grid.width << " " << p.grid.height << " "
     << p.grid.depth << " " << p.grid.reference_height << " " << toString(p.grid.aggregation) << " | t"
@@ -94,7 +94,7 @@ std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t
     << t.assume_ground_below_points << " " << t.min_head_distance << " " << t.hog_min_confidence << " "
     << t.camera_height << " " << t.camera_pitch << " " << t.reject_top_at_border << " " << t.min_free_fraction << " "
     << t.free_depth_step << " " << t.tracked_min_height << " " << t.tracked_max_width << " " << t.remove_walls << " "
-    << t.max_head_ratio << " " << t.hidden_lost_after;
+    << t.max_head_ratio << " " << t.hidden_lost_after << " " << t.align_to_facing << " " << t.facing_smoothing;
   const std::string kind = p.recognizer == Recognizer::Paper ? toString(p.grid.aggregation) : toString(p.recognizer);
   return kind + (p.flow.reject_outliers ? "" : "_raw") + "_" + hex(s.str());
 }

@@ -353,7 +353,7 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, c
                "of %zu of them; tested on %zu streams of %zu new people\n",
                dataset.c_str(), training.size(), set.people.size(), tuning_streams, tuners.size(),
                specs.size() - tuning_streams, set.test_people.size());
-  const TrackerParams tracker;
+  const TrackerParams tracker = trackerParams(args);
   const int jobs = jobsOption(args);
   installInterruptHandler();
   const auto train_frames = extractAll(training, extractions, tracker, cacheDir(args), jobs);

@@ -268,6 +268,7 @@ std::vector<SampleRef> samplesFromIndex(const std::string& index, const BagTopic
 
 #include <algorithm>
 
+#include <cmath>
 #include <cstdlib>
 
 namespace action_flow
@@ -277,7 +278,8 @@ namespace tools
 void addSampleOptions(std::set<std::string>& valued)
 {
   valued.insert({ "points-topic", "depth-topic", "rgb-topic", "info-topic", "synth", "people", "repetitions", "seed",
-                  "msr-dir", "max-frames", "actions", "persons" });
+                  "msr-dir", "max-frames", "actions", "persons", "facing", "facing-spread", "views",
+                  "test-repetitions", "train-spread" });
 }
 
 const char* sampleUsage()
@@ -286,6 +288,9 @@ const char* sampleUsage()
          "  --synth ias|msr                 render the samples in-process with the virtual Kinect (no bags)\n"
          "  --people N, --repetitions R     ias: actors p01..pN, each action R times (default 12, 3)\n"
          "  --msr-dir FOLDER                msr: the MSR Action3D skeleton files (aAA_sSS_eEE_skeleton.txt)\n"
+         "  --facing DEG, --facing-spread DEG\n"
+         "                                  ias: actors face DEG from the camera (0 towards it, 90 side on, 180 away),\n"
+         "                                  +- the spread (default 0 +- 30)\n"
          "  --seed N                        dataset seed (default 1)\n"
          "  --max-frames N                  render at most N frames of each sample (default 0: all)\n"
          "  --index INDEX.csv               bags listed in a dataset index instead (see docs/synth.md)\n"
@@ -378,14 +383,93 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
   }
   else
     throw UsageError("--synth must be ias or msr, not '" + which + "'");
+  if ((args.has("facing") || args.has("facing-spread")) && which != "ias")
+    throw UsageError("--facing and --facing-spread are for --synth ias");
+  const double facing = args.number("facing", 0.0), spread = args.number("facing-spread", 30.0);
+  if (!(std::abs(facing) <= 180.0) || !(spread >= 0.0 && spread <= 180.0))
+    throw UsageError("--facing must be in -180..180 and --facing-spread in 0..180 (degrees)");
   const int max_frames = static_cast<int>(args.integer("max-frames", 0, 0, 100000));
   std::vector<SampleRef> out;
   for (auto spec : specs)
   {
     spec.max_frames = max_frames;
+    spec.facing = facing;
+    spec.facing_spread = spread;
     out.push_back(renderedSample(spec));
   }
   return out;
+}
+
+CrossViewSet crossViewSamples(const Args& args)
+{
+  if (args.get("synth") != "ias" || args.has("index") || args.has("facing") || args.has("facing-spread"))
+    throw UsageError("--protocol cross-view renders its own samples: give --synth ias, without --index or --facing");
+  const int people = static_cast<int>(args.integer("people", 12, 2, 99));
+  const int train_reps = static_cast<int>(args.integer("repetitions", 3, 1, 99));
+  const int test_reps = static_cast<int>(args.integer("test-repetitions", 1, 1, 99));
+  const double train_spread = args.number("train-spread", 15.0);
+  if (!(train_spread >= 0.0 && train_spread <= 180.0))
+    throw UsageError("--train-spread must be in 0..180 degrees");
+  const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1000000000));
+  const int max_frames = static_cast<int>(args.integer("max-frames", 0, 0, 100000));
+  std::vector<std::string> train = splitList(args.get("train-persons", ""));
+  if (train.empty())
+    for (int p = 1; p <= people / 2; ++p)
+      train.push_back(std::string(p < 10 ? "p0" : "p") + std::to_string(p));
+  CrossViewSet set;
+  set.train_spread = train_spread;
+  set.views = { 0.0 };
+  for (const std::string& v : splitList(args.get("views", "45,90,135,180")))
+  {
+    std::size_t used = 0;
+    double d = 0.0;
+    try
+    {
+      d = std::stod(v, &used);
+    }
+    catch (const std::exception&)
+    {
+    }
+    if (used != v.size() || !(d > 0.0 && d <= 180.0))
+      throw UsageError("--views takes angles in (0, 180] degrees, got '" + v + "'");
+    set.views.push_back(d);
+  }
+  const auto isTrain = [&](const std::string& p) { return std::find(train.begin(), train.end(), p) != train.end(); };
+  const std::vector<std::string> actions = splitList(args.get("actions", ""));
+  // The training people face the camera (0 +- 15); the others are rendered at every view, the
+  // frontal view with the same spread.
+  const auto add = [&](const synth::SampleSpec& spec, int view) {
+    set.samples.push_back(renderedSample(spec));
+    set.view_of.push_back(view);
+  };
+  for (const synth::SampleSpec& base : synth::iasLabSamples(people, std::max(train_reps, test_reps), seed))
+  {
+    synth::SampleSpec spec = base;
+    spec.max_frames = max_frames;
+    if (!actions.empty() && std::find(actions.begin(), actions.end(), spec.action) == actions.end())
+      continue;
+    if (isTrain(spec.person))
+    {
+      if (spec.repetition > train_reps)
+        continue;
+      spec.facing = 0.0;
+      spec.facing_spread = train_spread;
+      add(spec, -1);
+      continue;
+    }
+    if (spec.repetition > test_reps)
+      continue;
+    for (std::size_t v = 0; v < set.views.size(); ++v)
+    {
+      spec.facing = set.views[v];
+      spec.facing_spread = v == 0 ? 15.0 : 0.0;
+      add(spec, static_cast<int>(v));
+    }
+  }
+  const auto trained = std::count(set.view_of.begin(), set.view_of.end(), -1);
+  if (trained == 0 || trained == static_cast<long>(set.view_of.size()))
+    throw UsageError("--protocol cross-view needs training people (--train-persons) and others to test on");
+  return set;
 }
 
 SampleRef renderedSample(const synth::SampleSpec& spec)

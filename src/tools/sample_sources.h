@@ -55,6 +55,21 @@ void addSampleOptions(std::set<std::string>& valued);
 std::vector<SampleRef> samplesFromSynth(const Args& args);
 /** A sample rendered by the virtual Kinect in-process (any dataset, streams included). */
 SampleRef renderedSample(const synth::SampleSpec& spec);
+/**
+ * The cross-view evaluation's samples (--protocol cross-view, --synth ias): the training people
+ * (--train-persons, default the first half of --people) facing the camera, 0 +- 15 degrees
+ * (--train-spread: 180 trains on every side, the augmentation the virtual Kinect makes cheap),
+ * --repetitions takes each; every other person at 0 (+- 15) and at each of --views (default
+ * 45,90,135,180, turned to their left or right), --test-repetitions takes each (default 1).
+ */
+struct CrossViewSet
+{
+  std::vector<SampleRef> samples;
+  std::vector<int> view_of;   // per sample: the index into views, or -1 for a training sample
+  std::vector<double> views;  // degrees; views[0] is 0 (frontal)
+  double train_spread = 15.0; // degrees either side of facing the camera, for the training people
+};
+CrossViewSet crossViewSamples(const Args& args);
 /** Usage lines of the sample options. */
 const char* sampleUsage();
 /** The samples the options name (--actions and --persons keep only those listed). @throws on a bad index or option, naming it. */

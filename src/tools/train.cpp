@@ -41,7 +41,7 @@ int main(int argc, char** argv)
     }
     const RecognitionParams params = methodParams(args);
     const int jobs = jobsOption(args);
-    const TrackerParams tracker;
+    const TrackerParams tracker = trackerParams(args);
     std::vector<SampleRef> samples = selectSamples(args);
     if (args.has("exclude-person"))
     {

@@ -254,6 +254,44 @@ TEST(Placement, WholeBodyInViewAndFacingTheCamera)
     }
 }
 
+// The cross-view evaluation's placement: the same performance, turned to face the camera at an angle.
+TEST(Placement, FacingTurnsTheActorAndKeepsThePerformance)
+{
+  for (const std::string action : { "wave", "kick", "sit_down" })
+  {
+    SampleSpec front = ias("p02", action, 1);
+    EXPECT_EQ(front.name(), "p02_" + action + "_1");
+    const SampleRenderer r0(front);
+    for (double facing : { 45.0, 90.0, 180.0 })
+    {
+      SampleSpec turned = front;
+      turned.facing = facing;
+      turned.facing_spread = 0.0;
+      const SampleRenderer r(turned);
+      char suffix[16];
+      std::snprintf(suffix, sizeof suffix, "_f%gs0", facing);
+      EXPECT_EQ(r.spec().name(), front.name() + suffix);
+      ASSERT_EQ(r.frames(), r0.frames()) << turned.name();
+      // The angle between where the body faces and the way to the camera, on the ground.
+      const Eigen::Vector3f cam = r.camera().worldFromOptical().translation();
+      const Eigen::Vector3f at = pelvis(r.worldSkeleton(0));
+      const Eigen::Vector2f to_cam = (cam - at).head<2>().normalized();
+      const Eigen::Vector2f fwd = r.posedBody(0).forward.head<2>().normalized();
+      const double angle = std::acos(std::clamp(double(fwd.dot(to_cam)), -1.0, 1.0)) * 180.0 / M_PI;
+      EXPECT_NEAR(angle, facing, 3.0) << turned.name();
+      // The same motion: every joint's distance from the pelvis, frame by frame.
+      for (int i = 0; i < r.frames(); i += 7)
+        for (int k = 0; k < kJointCount; ++k)
+          EXPECT_NEAR((r.worldSkeleton(i).joints[k] - pelvis(r.worldSkeleton(i))).norm(),
+                      (r0.worldSkeleton(i).joints[k] - pelvis(r0.worldSkeleton(i))).norm(), 1e-4)
+              << turned.name() << " frame " << i << " joint " << k;
+    }
+  }
+  SampleSpec bad = ias("p02", "wave", 1);
+  bad.facing = 200.0;
+  EXPECT_THROW(SampleRenderer{ bad }, std::invalid_argument);
+}
+
 TEST(Msr, RendersRealSkeletonsWithTheRightArmWaving)
 {
   const std::string folder = std::string(ACTION_FLOW_SHARED_DATA) + "/msr_action3d_skeletons";

@@ -82,9 +82,20 @@ struct SampleSpec
   std::string scene;
 
   /**
+   * ias: which way the actor faces, in degrees from facing the camera (0: towards it, 90: side on,
+   * 180: the back to the camera), with a uniform spread of +-facing_spread around it. A non-zero
+   * facing turns the actor to its left or its right (drawn from the sample's name), and the same
+   * performance is rendered whatever the facing (the cross-view evaluation sees one motion from
+   * several sides). The default, 0 +- 30, is the set's usual placement.
+   */
+  double facing = 0.0;
+  double facing_spread = 30.0;
+
+  /**
    * @brief "p01_wave_1" / "a01_s01_e01" / "p01_stream_1" / "s01_msr_stream_1" (a continuous file:
    *        its file name without extension, file-name safe) / "crowd3_1" (people, scene) /
    *        "wall_03" (clutter: scene type and number): unique within a dataset, used as the bag's base name.
+   *        An ias sample placed other than by default ends in "_f<facing>s<spread>" ("p01_wave_1_f90s0").
    */
   std::string name() const;
 };
