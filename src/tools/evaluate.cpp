@@ -294,7 +294,7 @@ int main(int argc, char** argv)
 {
   return runTool("evaluate", [&]() -> int {
     std::set<std::string> valued = { "output", "index", "jobs", "cache", "protocol", "train-persons", "variants",
-                                     "sweep" };
+                                     "sweep", "views", "test-repetitions", "train-spread" };
     valued.insert(methodOptions().begin(), methodOptions().end());
     valued.insert(onlineOptions().begin(), onlineOptions().end());
     valued.insert(detectionOptions().begin(), detectionOptions().end());

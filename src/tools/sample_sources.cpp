@@ -278,8 +278,7 @@ namespace tools
 void addSampleOptions(std::set<std::string>& valued)
 {
   valued.insert({ "points-topic", "depth-topic", "rgb-topic", "info-topic", "synth", "people", "repetitions", "seed",
-                  "msr-dir", "max-frames", "actions", "persons", "facing", "facing-spread", "views",
-                  "test-repetitions", "train-spread" });
+                  "msr-dir", "max-frames", "actions", "persons", "facing", "facing-spread" });
 }
 
 const char* sampleUsage()
