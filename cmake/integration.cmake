@@ -5,5 +5,5 @@ if(CATKIN_ENABLE_TESTING)
   target_compile_definitions(test_pipeline_bags PRIVATE
     ACTION_FLOW_BIN_DIR="${CATKIN_DEVEL_PREFIX}/lib/action_flow"
     ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
-  add_dependencies(test_pipeline_bags train synth)
+  add_dependencies(test_pipeline_bags train synth record)
 endif()

@@ -1,10 +1,16 @@
 # ROS wrappers: the pipeline's nodelets, their test aids, launch checks and rostests.
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(OPENNI2 REQUIRED libopenni2)
+# libfreenect: its header at build time; the library itself is loaded when a Kinect v1 or a
+# fakenect dump is opened (src/driver/freenect_device.h), the replay library from fakenect's folder.
+pkg_check_modules(FREENECT REQUIRED libfreenect)
+find_file(ACTION_FLOW_FAKENECT_LIBRARY libfreenect.so.0.5
+          PATHS /usr/lib/${CMAKE_LIBRARY_ARCHITECTURE}/fakenect /usr/lib/fakenect NO_DEFAULT_PATH)
 # OpenCV (core imgproc imgcodecs) is found by the top CMakeLists.
 
 # Stage types (zero-copy message traits) and parameter reading, shared by every nodelet.
-add_library(action_flow_ros src/nodelets/stage_types.cpp src/nodelets/params.cpp src/nodelets/input_checks.cpp)
+add_library(action_flow_ros src/nodelets/stage_types.cpp src/nodelets/params.cpp src/nodelets/input_checks.cpp
+  src/nodelets/stage_diagnostics.cpp)
 add_dependencies(action_flow_ros ${PROJECT_NAME}_generate_messages_cpp)
 find_package(ZLIB REQUIRED)
 target_link_libraries(action_flow_ros action_flow_core ${catkin_LIBRARIES} ZLIB::ZLIB)
@@ -19,10 +25,15 @@ add_library(action_flow_nodelets
 target_include_directories(action_flow_nodelets SYSTEM PRIVATE ${OpenCV_INCLUDE_DIRS})
 target_link_libraries(action_flow_nodelets action_flow_ros ${OpenCV_LIBRARIES})
 
-# OpenNI2 driver.
-add_library(action_flow_driver src/driver/openni2_device.cpp src/nodelets/driver_nodelet.cpp)
-target_include_directories(action_flow_driver SYSTEM PRIVATE ${OPENNI2_INCLUDE_DIRS})
-target_link_libraries(action_flow_driver action_flow_ros ${OPENNI2_LIBRARIES} ${catkin_LIBRARIES})
+# Driver: OpenNI2 and libfreenect backends.
+add_library(action_flow_devices src/driver/openni2_device.cpp src/driver/freenect_device.cpp)
+target_include_directories(action_flow_devices SYSTEM PRIVATE ${OPENNI2_INCLUDE_DIRS} ${FREENECT_INCLUDE_DIRS})
+target_link_libraries(action_flow_devices ${OPENNI2_LIBRARIES} ${CMAKE_DL_LIBS})
+if(ACTION_FLOW_FAKENECT_LIBRARY)
+  target_compile_definitions(action_flow_devices PRIVATE ACTION_FLOW_FAKENECT_LIBRARY="${ACTION_FLOW_FAKENECT_LIBRARY}")
+endif()
+add_library(action_flow_driver src/nodelets/driver_nodelet.cpp)
+target_link_libraries(action_flow_driver action_flow_devices action_flow_ros ${catkin_LIBRARIES})
 
 # People tracker stage, over the tracker part's core library.
 add_library(action_flow_tracker_nodelet src/nodelets/people_tracker_nodelet.cpp)
@@ -37,7 +48,7 @@ endif()
 add_library(action_flow_test_nodelets test/ros/test_scene.cpp test/ros/test_scene_publisher.cpp test/ros/zero_copy_probe.cpp)
 target_link_libraries(action_flow_test_nodelets action_flow_ros ${catkin_LIBRARIES})
 
-install(TARGETS action_flow_ros action_flow_nodelets action_flow_driver action_flow_tracker_nodelet
+install(TARGETS action_flow_ros action_flow_nodelets action_flow_devices action_flow_driver action_flow_tracker_nodelet
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
@@ -48,6 +59,7 @@ if(CATKIN_ENABLE_TESTING)
   # Every launch file parses, its args resolve, and every package it names exists.
   roslaunch_add_file_check(launch/pipeline.launch)
   roslaunch_add_file_check(launch/kinect.launch)
+  roslaunch_add_file_check(launch/record.launch person:=alice action:=wave)
   # One check per file (the test is named after it): the variant that names the most packages,
   # with the bag player and depth_image_proc.
   roslaunch_add_file_check(launch/bag.launch input:=images bag:=recording.bag)
@@ -63,6 +75,10 @@ if(CATKIN_ENABLE_TESTING)
     COMMENT "Writing the classifier's test models")
   add_custom_target(action_flow_test_models DEPENDS ${ACTION_FLOW_TEST_MODELS}/two_actions.afm)
   add_dependencies(tests action_flow_test_models)
+
+  # The driver's device side: the libfreenect backend on fakenect dumps (no hardware), device stamps.
+  catkin_add_gtest(test_devices test/driver/test_devices.cpp)
+  target_link_libraries(test_devices action_flow_devices gtest_main)
 
   catkin_add_gtest(test_input_checks test/ros/test_input_checks.cpp)
   target_link_libraries(test_input_checks action_flow_ros gtest_main)
@@ -94,6 +110,7 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/classifier_bad_model.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
   add_rostest(test/ros/lazy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
   add_rostest(test/ros/zero_copy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
+  add_rostest(test/ros/diagnostics.test DEPENDENCIES test_stages)
   add_rostest(test/ros/markers.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
   add_rostest(test/ros/zero_copy_detects_copy.test ARGS ${ACTION_FLOW_MODEL_ARGS} DEPENDENCIES test_stages action_flow_test_models)
   add_rostest(test/ros/real_data.test ARGS data:=${PROJECT_SOURCE_DIR}/../shared/data DEPENDENCIES test_real_data)
@@ -101,4 +118,15 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/driver_absent.test DEPENDENCIES test_stages)
   add_rostest(test/ros/annotator.test DEPENDENCIES test_annotator)
   add_rostest(test/ros/annotator_scene.test DEPENDENCIES test_annotator)
+  # A fakenect dump written by synth (p04 waving, 60 frames, about 90 MB) for kinect.launch backend:=freenect.
+  set(ACTION_FLOW_TEST_DUMP ${CMAKE_BINARY_DIR}/test_fakenect/ias/p04_wave_1.fakenect)
+  add_custom_command(OUTPUT ${ACTION_FLOW_TEST_DUMP}/INDEX.txt
+    COMMAND synth --out ${CMAKE_BINARY_DIR}/test_fakenect --person p04 --action wave --repetition 1 --frames 60 --fakenect --quiet
+    DEPENDS synth
+    COMMENT "Writing the fakenect test dump")
+  add_custom_target(action_flow_test_dump DEPENDS ${ACTION_FLOW_TEST_DUMP}/INDEX.txt)
+  add_dependencies(tests action_flow_test_dump)
+  add_rostest(test/ros/kinect_fakenect.test
+    ARGS model:=${ACTION_FLOW_TEST_MODELS}/posture_flow.afm corrupt_model:=${ACTION_FLOW_TEST_MODELS}/corrupt.afm dump:=${ACTION_FLOW_TEST_DUMP}
+    DEPENDENCIES test_stages action_flow_test_models action_flow_test_dump)
 endif()

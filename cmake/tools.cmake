@@ -28,8 +28,12 @@ foreach(tool train evaluate)
   target_compile_definitions(${tool} PRIVATE ACTION_FLOW_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
 endforeach()
 
+# record: a sample of your own from the live driver, in the virtual Kinect's bag layout (record.launch).
+add_executable(record src/tools/record.cpp)
+target_link_libraries(record action_flow_synth_bag ${catkin_LIBRARIES})
+
 # The tools and the libraries they (and bench, cmake/bench.cmake) load at run time.
-install(TARGETS action_flow_eval action_flow_tool_support train evaluate
+install(TARGETS action_flow_eval action_flow_tool_support train evaluate record
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

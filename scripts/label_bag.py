@@ -1,11 +1,12 @@
 #!/usr/bin/python3
-"""Plays one bag through the nodelet pipeline as a user would (roslaunch action_flow bag.launch)
+"""Plays one bag through the nodelet pipeline as a user would (roslaunch action_flow bag.launch),
+or a fakenect dump folder (roslaunch action_flow kinect.launch backend:=freenect device_uri:=DIR),
 and prints the label of the person it saw longest: "<label> <confidence> <margin>". The labels of
 every track that ends come within a few seconds of each other at the end of the input; of those,
 the one with the longest window wins (a short second track, e.g. the tracker splitting a moving
 arm off for a while, does not speak for the performer).
 
-usage: label_bag.py BAG MODEL [--input images|cloud] [--port PORT] [--timeout SECONDS]
+usage: label_bag.py BAG|DUMP_DIR MODEL [--input images|cloud] [--port PORT] [--timeout SECONDS]
 
 Exits 1 with one line on stderr if no label came within the timeout or the launch failed."""
 import argparse
@@ -38,15 +39,20 @@ def main():
     ap.add_argument("--port", type=int, default=11411, help="ROS master port (own master per run)")
     ap.add_argument("--timeout", type=float, default=120.0)
     args = ap.parse_args()
+    dump = os.path.isdir(args.bag)
     for path, what in ((args.bag, "bag"), (args.model, "model")):
-        if not os.path.isfile(path):
+        if not (os.path.isfile(path) or (dump and path == args.bag)):
             sys.exit(f"label_bag: {what} file '{path}' does not exist")
+    recording = os.path.abspath(args.bag)  # roslaunch nodes run in ~/.ros
 
     # Debian's ROS nodes start with "#!/usr/bin/env python3": the system Python must come first.
     env = dict(os.environ, ROS_MASTER_URI=f"http://localhost:{args.port}",
                PATH="/usr/bin:/bin:" + os.environ.get("PATH", ""))
-    cmd = ["roslaunch", "-p", str(args.port), "action_flow", "bag.launch", f"bag:={args.bag}",
-           f"model:={args.model}", f"input:={args.input}", "mode:=segmented", "echo_labels:=true"]
+    # Rendered people: no HOG (PCL's classifier rejects them), as bag.launch's default.
+    source = (["kinect.launch", "backend:=freenect", f"device_uri:={recording}", "hog:=off", "annotate:=false"] if dump
+              else ["bag.launch", f"bag:={recording}", f"input:={args.input}"])
+    cmd = ["roslaunch", "-p", str(args.port), "action_flow"] + source + [
+           f"model:={os.path.abspath(args.model)}", "mode:=segmented", "echo_labels:=true"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env,
                             start_new_session=True)
     labels = []  # one dict per ActionLabel echoed: label, confidence, margin, duration

@@ -81,7 +81,7 @@ def main():
                 labels.append((m.header.stamp.to_sec(), m.label, m.confidence, m.window_start.to_sec(),
                                m.window_end.to_sec(), m.track_id))
 
-        rospy.Subscriber("/labels", ActionLabel, on_label, queue_size=50)
+        rospy.Subscriber("/action_flow/labels", ActionLabel, on_label, queue_size=50)
         # The bag plays after a 1 s delay at its own rate; a few seconds more for the last labels.
         end = time.monotonic() + min(args.timeout, bag_seconds + 12.0)
         while time.monotonic() < end and proc.poll() is None:

@@ -25,14 +25,13 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-/** @brief One line of a dataset index (CSV with header: path,person,action,repetition,frames). */
+/** @brief One line of a dataset index (CSV with a header naming at least path, person, action and repetition; other columns are ignored). */
 struct IndexEntry
 {
   std::string path;    ///< the sample's bag, resolved against the index's folder
   std::string person;
   std::string action;
   int repetition = 0;
-  int frames = 0;
   int line = 0;        ///< line in the index file, for messages
 };
 

@@ -30,9 +30,6 @@ std::string lastError()
   const std::string e = openni::OpenNI::getExtendedError();
   return e.empty() ? "no details from OpenNI2" : e;
 }
-
-// Kinect v1 depth camera: f = 525 px at 640x480 (the value openni_launch uses), scaled.
-constexpr float kDefaultFocal640 = 525.0f;
 }  // namespace
 
 struct OpenNI2Device::Impl
@@ -156,16 +153,13 @@ bool OpenNI2Device::read(RgbdFrame& frame, int timeout_ms)
 
     const float hfov = impl_->depth.getHorizontalFieldOfView();
     const float vfov = impl_->depth.getVerticalFieldOfView();
+    setKinectV1Intrinsics(frame);
     frame.default_intrinsics = !(std::isfinite(hfov) && hfov > 0.01f && std::isfinite(vfov) && vfov > 0.01f);
-    if (frame.default_intrinsics)
-      frame.fx = frame.fy = kDefaultFocal640 * w / 640.0f;
-    else
+    if (!frame.default_intrinsics)
     {
       frame.fx = 0.5f * w / std::tan(0.5f * hfov);
       frame.fy = 0.5f * h / std::tan(0.5f * vfov);
     }
-    frame.cx = 0.5f * w - 0.5f;
-    frame.cy = 0.5f * h - 0.5f;
     return true;
   }
 }

@@ -2,38 +2,19 @@
  * @file openni2_device.h
  * @brief A thin wrapper of one OpenNI2 device (a sensor, an .oni recording or OpenNI2's Dummy
  *        test device): opens it, runs its depth and colour streams, reads synchronised frame
- *        pairs. No ROS; the driver nodelet owns one and turns frames into clouds.
+ *        pairs (an RgbdDevice). No ROS; the driver nodelet owns one and turns frames into clouds.
  */
 #pragma once
 
-#include <cstdint>
+#include "rgbd_device.h"
+
 #include <memory>
-#include <stdexcept>
 #include <string>
-#include <vector>
 
 namespace action_flow
 {
-/** @brief One depth frame (millimetres, 0 = no reading) with the colour registered to it. */
-struct RgbdFrame
-{
-  int width = 0, height = 0;
-  std::vector<std::uint16_t> depth_mm;  ///< width*height
-  std::vector<std::uint8_t> rgb;        ///< 3*width*height, resampled to the depth size if needed
-  std::uint64_t timestamp_us = 0;       ///< the device's clock
-  float fx = 0.0f, fy = 0.0f, cx = 0.0f, cy = 0.0f;  ///< depth intrinsics (pixels)
-  bool default_intrinsics = false;      ///< the device reported no field of view: Kinect v1 values used
-};
-
-/** @brief Raised when a device cannot be opened or its streams fail. */
-class DeviceError : public std::runtime_error
-{
-public:
-  using std::runtime_error::runtime_error;
-};
-
 /** @brief One OpenNI2 device. Not thread-safe: use from one thread. */
-class OpenNI2Device
+class OpenNI2Device : public RgbdDevice
 {
 public:
   /**
@@ -43,25 +24,18 @@ public:
    */
   explicit OpenNI2Device(const std::string& uri);
   /** @brief Stops and destroys the streams before closing the device (Dummy crashes otherwise). */
-  ~OpenNI2Device();
+  ~OpenNI2Device() override;
   OpenNI2Device(const OpenNI2Device&) = delete;
   OpenNI2Device& operator=(const OpenNI2Device&) = delete;
 
-  /** @brief Starts depth and colour streams; @throws DeviceError. */
-  void start();
-  /** @brief Stops the streams (they can be started again). */
-  void stop();
-  bool streaming() const { return streaming_; }
+  void start() override;
+  void stop() override;
+  bool streaming() const override { return streaming_; }
 
-  /**
-   * @brief Waits up to @p timeout_ms for a depth frame and the latest colour frame.
-   * @return false on timeout
-   * @throws DeviceError if reading fails
-   */
-  bool read(RgbdFrame& frame, int timeout_ms);
+  bool read(RgbdFrame& frame, int timeout_ms) override;
 
   /** @brief What was opened: the device's URI and name. */
-  const std::string& description() const { return description_; }
+  const std::string& description() const override { return description_; }
   bool isFile() const;
 
 private:

@@ -80,9 +80,10 @@ std::vector<IndexEntry> readIndex(const std::string& path, const std::vector<std
   }
   if (header.empty())
     throw DatasetError(path + ": empty dataset index (no header line)");
-  const char* columns[] = { "path", "person", "action", "repetition", "frames" };
-  int col[5];
-  for (int c = 0; c < 5; ++c)
+  // Only the columns read; others (synth's "frames", a note of your own) are ignored.
+  const char* columns[] = { "path", "person", "action", "repetition" };
+  int col[4];
+  for (int c = 0; c < 4; ++c)
   {
     const auto it = std::find(header.begin(), header.end(), columns[c]);
     if (it == header.end())
@@ -111,7 +112,6 @@ std::vector<IndexEntry> readIndex(const std::string& path, const std::vector<std
     e.person = fields[col[1]];
     e.action = fields[col[2]];
     e.repetition = toInt(fields[col[3]], where, "repetition");
-    e.frames = toInt(fields[col[4]], where, "frames");
     if (!known_actions.empty() && std::find(known_actions.begin(), known_actions.end(), e.action) == known_actions.end())
       throw DatasetError(where + ": unknown action '" + e.action + "'");
     const std::string sample_why = whyNotARegularFile(e.path);

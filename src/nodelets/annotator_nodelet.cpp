@@ -288,7 +288,7 @@ class AnnotatorNodelet : public LazyNodelet
       cv::cvtColor(in, canvas, cv::COLOR_RGB2BGR);
     else
       in.copyTo(canvas);
-    const Intrinsics k{ info_->K[0], info_->K[4], info_->K[2], info_->K[5] };
+    const Intrinsics k{ info_->P[0], info_->P[5], info_->P[2], info_->P[6] };  // P, as depth_image_proc projects
     draw(canvas, *people, image->header.frame_id, k);
     image_pub_.publish(out);
   }

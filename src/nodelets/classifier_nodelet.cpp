@@ -4,6 +4,7 @@
 #include <action_flow/Classify.h>
 #include <action_flow/action_model.h>
 #include <action_flow/ros/lazy_nodelet.h>
+#include <action_flow/ros/stage_diagnostics.h>
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
 #include <action_flow/recognition_policy.h>
@@ -42,7 +43,13 @@ class ClassifierNodelet : public LazyNodelet
     pnh.param("end_of_input_timeout", end_of_input_timeout_, end_of_input_timeout_);
     pnh.param("arrow_scale", arrow_scale_, arrow_scale_);
     pnh.param("max_arrows", max_arrows_, max_arrows_);
+    diag_.start(getNodeHandle(), pnh, getName(), "classifier");
     loadModel(pnh);
+    if (policy_)
+      diag_.set("model", "loaded: " + pnh.param<std::string>("model", ""));
+    else
+      diag_.setProblem("no model: " + model_error_);
+    diag_.set("labels published", "0");
 
     setSubscribe([this] {
       return getNodeHandle().subscribe("descriptors", 20, &ClassifierNodelet::onDescriptors, this);
@@ -88,6 +95,7 @@ class ClassifierNodelet : public LazyNodelet
   void onDescriptors(const FrameDescriptors::ConstPtr& in)
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    diag_.received();
     last_input_ = ros::WallTime::now();
     const double stamp = in->header.stamp.toSec();
     header_ = in->header;
@@ -132,6 +140,8 @@ class ClassifierNodelet : public LazyNodelet
       states_pub_.publish(states);
     if (markers_pub_.getNumSubscribers() > 0)
       publishMarkers(*in);
+    diag_.published(in->header.stamp);
+    diag_.set("open tracks", std::to_string(policy_ ? policy_->tracks() : 0));
   }
 
   std::vector<LabelEvent> endTrack(std::uint32_t id)
@@ -167,6 +177,7 @@ class ClassifierNodelet : public LazyNodelet
         NODELET_INFO("track %u: %s (confidence %.2f, margin %.3f, %zu frames)", e.track, e.result.label.c_str(),
                      e.result.confidence, e.result.margin, e.frames);
       labels_pub_.publish(label);
+      diag_.set("labels published", std::to_string(++labels_published_));
       out.push_back(*label);
     }
     return out;
@@ -273,6 +284,8 @@ class ClassifierNodelet : public LazyNodelet
   double last_stamp_ = -1.0;
   ros::WallTime last_input_;
   ros::Publisher labels_pub_, states_pub_, markers_pub_;
+  StageDiagnostics diag_;
+  std::size_t labels_published_ = 0;
   ros::ServiceServer service_;
   ros::WallTimer timer_;
 };

@@ -2,6 +2,7 @@
 // (core PostureFlowDescriptor, the default) or the paper's SUMFLOW / MEANFLOW (core GridDescriptor).
 #include <action_flow/action_model.h>
 #include <action_flow/ros/lazy_nodelet.h>
+#include <action_flow/ros/stage_diagnostics.h>
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
 
@@ -28,12 +29,14 @@ class DescriptorNodelet : public LazyNodelet
       NODELET_ERROR("bad descriptor parameters (%s): using the defaults", e.what());
       params_ = defaultRecognitionParams();
     }
+    diag_.start(getNodeHandle(), getPrivateNodeHandle(), getName(), "descriptor");
     setSubscribe([this] { return getNodeHandle().subscribe("flow", 10, &DescriptorNodelet::onFlow, this); });
     pub_ = advertiseLazy<FrameDescriptors>("descriptors", 10);
   }
 
   void onFlow(const PeopleFlow::ConstPtr& in)
   {
+    diag_.received();
     auto out = boost::make_shared<FrameDescriptors>();
     out->header = in->header;
     out->lost = in->lost;
@@ -61,9 +64,11 @@ class DescriptorNodelet : public LazyNodelet
       out->descriptors.push_back(std::move(d));
     }
     pub_.publish(out);
+    diag_.published(in->header.stamp);
   }
 
   RecognitionParams params_;
+  StageDiagnostics diag_;
   ros::Publisher pub_;
 };
 

@@ -1,6 +1,7 @@
 // Flow stage: per tracked person, the 3D flow between its consecutive clouds (core FlowTrack).
 #include <action_flow/person_pipeline.h>
 #include <action_flow/ros/lazy_nodelet.h>
+#include <action_flow/ros/stage_diagnostics.h>
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
 
@@ -36,12 +37,14 @@ class FlowNodelet : public LazyNodelet
       params_ = FlowParams();
     }
     pnh.param("max_gap", max_gap_, max_gap_);
+    diag_.start(getNodeHandle(), pnh, getName(), "flow");
     setSubscribe([this] { return getNodeHandle().subscribe("person_clouds", 10, &FlowNodelet::onClouds, this); });
     pub_ = advertiseLazy<PeopleFlow>("flow", 10);
   }
 
   void onClouds(const PeopleClouds::ConstPtr& in)
   {
+    diag_.received();
     const double stamp = in->header.stamp.toSec();
     auto out = boost::make_shared<PeopleFlow>();
     out->header = in->header;
@@ -96,6 +99,7 @@ class FlowNodelet : public LazyNodelet
       out->people.push_back(std::move(p));
     }
     pub_.publish(out);
+    diag_.published(in->header.stamp);
   }
 
   FlowParams params_;
@@ -103,6 +107,7 @@ class FlowNodelet : public LazyNodelet
   double last_stamp_ = -1.0;
   std::map<std::uint32_t, Track> tracks_;
   ros::Publisher pub_;
+  StageDiagnostics diag_;
 };
 
 }  // namespace action_flow

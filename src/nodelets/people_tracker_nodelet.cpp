@@ -3,6 +3,7 @@
 #include <action_flow/people_tracker.h>
 #include <action_flow/ros/input_checks.h>
 #include <action_flow/ros/lazy_nodelet.h>
+#include <action_flow/ros/stage_diagnostics.h>
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
 
@@ -62,6 +63,7 @@ class PeopleTrackerNodelet : public LazyNodelet
       tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, getNodeHandle());
       NODELET_INFO("tracking in the fixed frame '%s'", fixed_frame_.c_str());
     }
+    diag_.start(getNodeHandle(), pnh, getName(), "people tracker");
     setSubscribe([this] { return getNodeHandle().subscribe("cloud", 5, &PeopleTrackerNodelet::onInput, this); });
     clouds_pub_ = advertiseLazy<PeopleClouds>("person_clouds", 10);
     people_pub_ = advertiseLazy<TrackedPeople>("people", 10);
@@ -69,6 +71,7 @@ class PeopleTrackerNodelet : public LazyNodelet
 
   void onInput(const InputCloud::ConstPtr& input)
   {
+    diag_.received();
     if (!input->cloud)
     {
       NODELET_ERROR_THROTTLE(5, "dropped a malformed point cloud on %s: it %s", getNodeHandle().resolveName("cloud").c_str(),
@@ -159,6 +162,8 @@ class PeopleTrackerNodelet : public LazyNodelet
     }
     clouds_pub_.publish(out);
     people_pub_.publish(people);
+    diag_.published(header.stamp);
+    diag_.set("tracked people", std::to_string(result.people.size()));
   }
 
   std::unique_ptr<PeopleTracker> tracker_;
@@ -169,6 +174,7 @@ class PeopleTrackerNodelet : public LazyNodelet
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::Publisher clouds_pub_, people_pub_;
+  StageDiagnostics diag_;
 };
 
 }  // namespace action_flow

@@ -95,7 +95,8 @@ private:
         const std::string error = checkCameraInfo(*info);
         if (!error.empty())
           fail(topics_.info, "a camera_info that " + error);
-        k_.fx = info->K[0], k_.cx = info->K[2], k_.fy = info->K[4], k_.cy = info->K[5];
+        // The projection P, as depth_image_proc uses it live (checkCameraInfo requires it).
+        k_.fx = info->P[0], k_.cx = info->P[2], k_.fy = info->P[5], k_.cy = info->P[6];
         have_info_ = true;
       }
       else if (auto img = m.instantiate<sensor_msgs::Image>())

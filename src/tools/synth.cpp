@@ -81,6 +81,9 @@ OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
   --preview              write PNGs instead of bags: OUT/<sample>_fNNN_color.png and _depth.png
   --preview-at F         preview frame as a fraction of the sample (default 0.5); may repeat
   --montage FILE         with --preview: also one JPEG grid of all previews (colour above depth)
+  --fakenect             write fakenect dumps instead of bags: OUT/<dataset>/<sample>.fakenect/ (INDEX.txt,
+                         RGB and 11-bit depth frames; replay with kinect.launch backend:=freenect
+                         device_uri:=DIR); not indexed, about 1.5 MB a frame
   --quiet                no progress bar
 )";
 
@@ -209,7 +212,7 @@ int main(int argc, char** argv)
   double seconds = 60.0;
   bool people_given = false;
   std::uint64_t seed = 1;
-  bool all_msr = false, skip_existing = false, list = false, preview = false, quiet = false;
+  bool all_msr = false, skip_existing = false, list = false, preview = false, quiet = false, fakenect = false;
   std::vector<double> preview_at;
   BagOptions bag;
   for (int i = 1; i < argc; ++i)
@@ -307,6 +310,8 @@ int main(int argc, char** argv)
       if (preview_at.back() < 0 || preview_at.back() > 1)
         fail("--preview-at expects a number in [0,1], got '" + v + "'");
     }
+    else if (a == "--fakenect")
+      fakenect = true;
     else if (a == "--montage")
       montage = value();
     else if (a == "--quiet")
@@ -316,6 +321,8 @@ int main(int argc, char** argv)
   }
   if (bag.compression != "none" && bag.compression != "lz4" && bag.compression != "bz2")
     fail("--compression must be none, lz4 or bz2, got '" + bag.compression + "'");
+  if (fakenect && (preview || dataset == "crowd"))
+    fail("--fakenect writes one sample's frames: not with --preview or --dataset crowd");
   if (preview_at.empty())
     preview_at.push_back(0.5);
 
@@ -449,6 +456,14 @@ int main(int argc, char** argv)
           }
           frames_of[k] = sample.frames();
         }
+        else if (fakenect)
+        {
+          const fs::path path = dir / (spec.name() + ".fakenect");
+          if (!(skip_existing && fs::exists(path / "INDEX.txt")) &&
+              !writeFakenectDump(sample, path.string(), &g_cancel, [&]() { progress.frame(); }))
+            return;  // interrupted; the temporary folder is gone
+          frames_of[k] = sample.frames();
+        }
         else
         {
           const fs::path path = dir / (spec.name() + ".bag");
@@ -484,7 +499,9 @@ int main(int argc, char** argv)
   // folder whose bags are still there (a second `--action` run adds to it, it does not replace it).
   // Written under a temporary name, then renamed.
   size_t complete = 0;
-  if (!preview)
+  if (fakenect)
+    complete = size_t(std::count_if(frames_of.begin(), frames_of.end(), [](int f) { return f >= 0; }));
+  else if (!preview)
   {
     const fs::path index = dir / "index.csv", tmp = dir / "index.csv.tmp";
     static const std::string kHeader = "path,person,action,repetition,frames";

@@ -4,6 +4,7 @@
 #include "guarded_bag.h"
 
 #include <action_flow/files.h>
+#include <action_flow/kinect_depth.h>
 
 #include <geometry_msgs/TransformStamped.h>
 #include <pcl_conversions/pcl_conversions.h>
@@ -23,6 +24,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
@@ -331,6 +333,61 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
   if (sample.spec().dataset == "stream" || sample.spec().dataset == "msr_stream")
     src.action = [&](int i) { return sample.actionAt(i); };
   return writeBag(src, path, options, cancel, on_frame);
+}
+
+bool writeFakenectDump(const SampleRenderer& sample, const std::string& dir, const std::atomic<bool>* cancel,
+                       const std::function<void()>& on_frame)
+{
+  namespace fs = std::filesystem;
+  const fs::path tmp = dir + ".tmp";
+  std::error_code ec;
+  fs::remove_all(tmp, ec);
+  if (!fs::create_directories(tmp, ec))
+    throw std::runtime_error(tmp.string() + ": cannot create the folder: " + ec.message());
+  std::ofstream index(tmp / "INDEX.txt");
+  FrameImages im;
+  std::vector<std::uint16_t> raw;
+  const auto write = [&](char type, double time, std::uint32_t ts, const std::string& header, const void* data,
+                         std::size_t bytes) {
+    char name[64];
+    std::snprintf(name, sizeof name, "%c-%f-%u.%s", type, time, ts, type == 'd' ? "pgm" : "ppm");
+    std::ofstream f(tmp / name, std::ios::binary);
+    f << header;
+    f.write(static_cast<const char*>(data), std::streamsize(bytes));
+    index << name << "\n";
+    if (!f || !index)
+      throw std::runtime_error((tmp / name).string() + ": cannot write");
+  };
+  for (int i = 0; i < sample.frames(); ++i)
+  {
+    if (cancel && *cancel)
+    {
+      index.close();
+      fs::remove_all(tmp, ec);
+      return false;
+    }
+    sample.renderImages(i, im);
+    if (im.width != 640 || im.height != 480)
+      throw std::runtime_error(dir + ": fakenect replays 640x480 only, the camera renders " + std::to_string(im.width) +
+                               "x" + std::to_string(im.height));
+    raw.resize(im.depth.size());
+    for (std::size_t k = 0; k < raw.size(); ++k)
+      raw[k] = metresToKinectRaw(im.depth[k]);
+    // The sensor's clock counts at 60 MHz: 2,000,000 ticks a frame at 30 Hz.
+    const auto ts = static_cast<std::uint32_t>(std::uint64_t(i) * 2000000u);
+    write('r', sample.stamp(i), ts, "P6 640 480 255\n", im.rgb.data(), im.rgb.size());
+    write('d', sample.stamp(i), ts, "P5 640 480 65535\n", raw.data(), 2 * raw.size());
+    if (on_frame)
+      on_frame();
+  }
+  index.close();
+  if (!index)
+    throw std::runtime_error((tmp / "INDEX.txt").string() + ": cannot write");
+  fs::remove_all(dir, ec);
+  fs::rename(tmp, dir, ec);
+  if (ec)
+    throw std::runtime_error(dir + ": cannot rename the dump into place: " + ec.message());
+  return true;
 }
 
 bool writeCrowdBag(const CrowdRenderer& crowd, const std::string& path, const BagOptions& options,

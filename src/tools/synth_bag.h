@@ -54,6 +54,19 @@ bool writeSampleBag(const SampleRenderer& sample, const std::string& path, const
                     const std::atomic<bool>* cancel = nullptr, const std::function<void()>& on_frame = {});
 
 /**
+ * @brief Renders every frame of @p sample as a dump that libfreenect's fakenect replays (what
+ *        fakenect-record writes of a Kinect v1): the folder @p dir with INDEX.txt and, per frame,
+ *        "r-<time>-<timestamp>.ppm" (640x480 RGB) then "d-<time>-<timestamp>.pgm" (640x480 11-bit
+ *        raw depth, kinect_depth.h, little-endian 16 bits as the sensor streams it), each a one-line
+ *        header and the raw frame. Depth is registered to colour (fakenect has no registration).
+ *        Written as "<dir>.tmp" and renamed when complete (an existing @p dir is replaced).
+ * @return false if @p cancel was set (no partial folder left)
+ * @throws std::runtime_error (naming the file) on write errors or a camera that is not 640x480
+ */
+bool writeFakenectDump(const SampleRenderer& sample, const std::string& dir, const std::atomic<bool>* cancel = nullptr,
+                       const std::function<void()>& on_frame = {});
+
+/**
  * @brief Writes the ground-truth segments of @p sample as CSV, header
  *        "action,first_frame,last_frame,start,end" (frames inclusive; start and end the stamps of
  *        the first and last frame in seconds), one row per SampleRenderer::segments() entry; written

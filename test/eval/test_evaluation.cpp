@@ -66,16 +66,16 @@ TEST(DatasetIndex, ReadsAValidIndexRelativeToItsFolder)
 {
   std::ofstream(dir() + "a.bag") << "x";
   std::ofstream(dir() + "b.bag") << "x";
-  const auto e = readIndex(writeIndex("good.csv", "path,person,action,repetition,frames\n"
-                                                  "a.bag,p01,wave,1,90\n"
+  // Columns found by name; one the reader does not use ("note") is ignored, "frames" is not needed.
+  const auto e = readIndex(writeIndex("good.csv", "note,path,person,action,repetition\n"
+                                                  "x,a.bag,p01,wave,1\n"
                                                   "\n"
-                                                  "b.bag, p02 ,kick,2,75\n"),
+                                                  "y,b.bag, p02 ,kick,2\n"),
                            { "wave", "kick" });
   ASSERT_EQ(e.size(), 2u);
   EXPECT_EQ(e[1].path, dir() + "b.bag");
   EXPECT_EQ(e[1].person, "p02");
   EXPECT_EQ(e[1].repetition, 2);
-  EXPECT_EQ(e[1].frames, 75);
   EXPECT_EQ(e[1].line, 4);
 }
 
@@ -90,6 +90,7 @@ TEST(DatasetIndex, MalformedIndexNamesTheLine)
   expectIndexError(head + "a.bag,,wave,1,90\n", 2, "'person' is empty");
   expectIndexError(head + "a.bag,p01,wave,1,90\na.bag,p01,wave,1,90\n", 3, "duplicate sample");
   expectIndexError("path,person,action,frames\n", 1, "lacks column 'repetition'");
+  expectIndexError("path,action,repetition\n", 1, "lacks column 'person'");
   expectIndexError(head, 0, "lists no samples");
   expectIndexError("", 0, "empty dataset index");
   EXPECT_THROW(readIndex(dir() + "no_such_index.csv"), DatasetError);

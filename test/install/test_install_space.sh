@@ -215,7 +215,7 @@ while time.time() < deadline:
 print("loaded: " + " ".join(sorted(loaded)) + "; missing: " + " ".join(sorted(expected - loaded)))
 sys.exit(1)
 EOF
-EXPECTED="/driver /people_tracker /flow /descriptor /classifier /annotator /image_guard"
+EXPECTED="/camera/driver /action_flow/people_tracker /action_flow/flow /action_flow/descriptor /action_flow/classifier /action_flow/annotator /image_guard"
 out=$(timeout 90 "$TMP/in_prefix" /usr/bin/python3 "$TMP/list_nodelets.py" "$EXPECTED" 60 2>&1); rc=$?
 if [ $rc = 0 ]; then pass all_nodelets_load
 else fail all_nodelets_load "$(printf '%s' "$out" | tail -n 2); launch log: $(grep -iE 'error|fail|died' "$TMP/launch.log" | head -n 8)"; fi

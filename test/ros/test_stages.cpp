@@ -20,7 +20,10 @@
 #include <std_msgs/String.h>
 #include <visualization_msgs/MarkerArray.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+#include <tf2_ros/transform_listener.h>
 #include <action_flow/TrackedPeople.h>
+#include <action_flow/ActionStateArray.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
 
 #include <cmath>
 #include <cstring>
@@ -694,8 +697,48 @@ TEST(Markers, FlowArrowsOnTheForearmAndTheLabelAboveTheHead)
   EXPECT_TRUE(label) << "no label marker";
 }
 
+// ---- diagnostics -----------------------------------------------------------------------------------
+TEST(Diagnostics, EachStageReportsItsRatesPeopleAndModel)
+{
+  ros::NodeHandle nh;
+  Collector<action_flow::ActionStateArray> states(nh, "states", 10);  // a listener: the lazy chain runs
+  Collector<diagnostic_msgs::DiagnosticArray> diagnostics(nh, "/diagnostics", 200);
+  // The latest status of each stage whose name contains the key.
+  const auto latest = [&](const std::string& key) {
+    diagnostic_msgs::DiagnosticStatus found;
+    for (const auto& a : diagnostics.messages())
+      for (const auto& st : a->status)
+        if (st.name.find(key) != std::string::npos)
+          found = st;
+    return found;
+  };
+  const auto value = [](const diagnostic_msgs::DiagnosticStatus& st, const std::string& key) {
+    for (const auto& kv : st.values)
+      if (kv.key == key)
+        return kv.value;
+    return std::string("(none)");
+  };
+  // Rates are per report (about a second); wait for one taken while the chain ran throughout.
+  ASSERT_TRUE(states.waitForCount(20, 20.0)) << "the chain did not run";
+  const std::size_t reports = diagnostics.size();
+  ASSERT_TRUE(waitFor([&] { return diagnostics.size() >= reports + 10; }, 10.0)) << "no /diagnostics";
+  const auto tracker = latest("people tracker");
+  EXPECT_EQ(tracker.level, diagnostic_msgs::DiagnosticStatus::OK) << tracker.message;
+  EXPECT_EQ(value(tracker, "tracked people"), "1");
+  const double in = std::stod(value(tracker, "input rate (Hz)")), out = std::stod(value(tracker, "output rate (Hz)"));
+  EXPECT_NEAR(in, 15.0, 4.0) << "the scene is published at 15 Hz";
+  EXPECT_NEAR(out, in, 2.0);
+  EXPECT_GE(std::stod(value(tracker, "latency max (ms)")), std::stod(value(tracker, "latency mean (ms)")));
+  for (const std::string stage : { "flow", "descriptor" })
+    EXPECT_NEAR(std::stod(value(latest(": " + stage), "output rate (Hz)")), 15.0, 4.0) << stage;
+  const auto classifier = latest("classifier");
+  EXPECT_EQ(classifier.level, diagnostic_msgs::DiagnosticStatus::ERROR);
+  EXPECT_NE(classifier.message.find("no model"), std::string::npos) << classifier.message;
+  EXPECT_NE(classifier.message.find("/nonexistent/model.afm"), std::string::npos) << classifier.message;
+}
+
 // ---- driver ----------------------------------------------------------------------------------------
-TEST(Driver, DummyDevicePublishesCloudsWhileSubscribed)
+TEST(Driver, DummyDevicePublishesImagesCloudsAndFramesWhileSubscribed)
 {
   ros::NodeHandle nh;
   LogWatch started(nh, "streaming from", rosgraph_msgs::Log::INFO);
@@ -703,10 +746,14 @@ TEST(Driver, DummyDevicePublishesCloudsWhileSubscribed)
   ros::WallDuration(0.5).sleep();
   EXPECT_EQ(started.count(), 0u) << "streams ran with nobody subscribed";
   {
-    Collector<sensor_msgs::PointCloud2> clouds(nh, "cloud", 5);
-    Collector<sensor_msgs::CameraInfo> info(nh, "camera_info", 5);
+    Collector<sensor_msgs::PointCloud2> clouds(nh, "camera/depth_registered/points", 5);
+    Collector<sensor_msgs::CameraInfo> info(nh, "camera/rgb/camera_info", 5);
+    Collector<sensor_msgs::Image> rgb(nh, "camera/rgb/image_raw", 5);
+    Collector<sensor_msgs::Image> depth(nh, "camera/depth_registered/image_raw", 5);
     ASSERT_TRUE(clouds.waitForCount(5, 10.0)) << "no clouds from the Dummy device";
     ASSERT_TRUE(info.waitForCount(1, 5.0));
+    ASSERT_TRUE(rgb.waitForCount(1, 5.0));
+    ASSERT_TRUE(depth.waitForCount(1, 5.0));
     const auto c = clouds.messages().back();
     EXPECT_EQ(c->width, 320u);
     EXPECT_EQ(c->height, 240u);
@@ -717,9 +764,52 @@ TEST(Driver, DummyDevicePublishesCloudsWhileSubscribed)
     EXPECT_GT(finite, 0u) << "the Dummy device's depth gave no point";
     const auto i = info.messages().back();
     EXPECT_EQ(i->header.frame_id, c->header.frame_id);
-    EXPECT_NEAR(i->K[0], 262.5, 1e-6) << "default Kinect intrinsics at 320x240";
+    EXPECT_NEAR(i->K[0], 300.0, 1e-6) << "the calibration file's focal length, not the Kinect default (262.5)";
+    EXPECT_NEAR(i->P[5], 300.0, 1e-6);
+    const auto r = rgb.messages().back();
+    EXPECT_EQ(r->encoding, "rgb8");
+    EXPECT_EQ(r->width, 320u);
+    EXPECT_EQ(r->step, 3u * 320u);
+    EXPECT_EQ(r->header.frame_id, c->header.frame_id);
+    // A cloud and the depth image of the same frame (one stamp).
+    sensor_msgs::ImageConstPtr d;
+    sensor_msgs::PointCloud2ConstPtr c_of_d;
+    ASSERT_TRUE(waitFor(
+        [&] {
+          for (const auto& cm : clouds.messages())
+            for (const auto& m : depth.messages())
+              if (m->header.stamp == cm->header.stamp)
+                d = m, c_of_d = cm;
+          return bool(d);
+        },
+        5.0))
+        << "no depth image with a cloud's stamp";
+    EXPECT_EQ(d->encoding, "16UC1");
+    ASSERT_EQ(d->data.size(), 2u * 320u * 240u);
+    // Each pixel's depth and its cloud point agree, and x follows the calibration's fx and cx.
+    std::size_t compared = 0;
+    sensor_msgs::PointCloud2ConstIterator<float> x(*c_of_d, "x"), z(*c_of_d, "z");
+    for (std::size_t k = 0; k < 320u * 240u; ++k, ++x, ++z)
+    {
+      std::uint16_t mm = 0;
+      std::memcpy(&mm, &d->data[2 * k], 2);
+      ASSERT_EQ(std::isfinite(*z), mm > 0) << "pixel " << k;
+      if (mm == 0)
+        continue;
+      ASSERT_NEAR(*z, mm * 0.001f, 1e-4) << "pixel " << k;
+      ASSERT_NEAR(*x, (double(k % 320) - 159.5) * *z / 300.0, 1e-4) << "pixel " << k;
+      ++compared;
+    }
+    EXPECT_GT(compared, 0u);
+    tf2_ros::Buffer buffer;
+    tf2_ros::TransformListener listener(buffer);
+    std::string error;
+    EXPECT_TRUE(buffer.canTransform("camera_link", "camera_rgb_optical_frame", ros::Time(0), ros::Duration(3.0), &error))
+        << error;
     clouds.shutdown();
     info.shutdown();
+    rgb.shutdown();
+    depth.shutdown();
   }
   EXPECT_TRUE(waitFor([&] { return started.count() > 0; }, 3.0));
   EXPECT_TRUE(waitFor([&] { return stopped.count() > 0; }, 5.0)) << "streams kept running after the last subscriber left";
@@ -729,7 +819,7 @@ TEST(Driver, AbsentDeviceIsRetriedAndTheNodeletUnloads)
 {
   ros::NodeHandle nh;
   LogWatch errors(nh, "cannot open OpenNI2 device", rosgraph_msgs::Log::ERROR);
-  Collector<sensor_msgs::PointCloud2> clouds(nh, "cloud", 5);
+  Collector<sensor_msgs::PointCloud2> clouds(nh, "depth_registered/points", 5);
   EXPECT_TRUE(waitFor([&] { return errors.count() >= 2; }, 8.0)) << "no repeated clear error for an absent device";
   ros::ServiceClient unload = nh.serviceClient<nodelet::NodeletUnload>("manager/unload_nodelet");
   nodelet::NodeletUnload srv;
@@ -739,6 +829,40 @@ TEST(Driver, AbsentDeviceIsRetriedAndTheNodeletUnloads)
   EXPECT_TRUE(srv.response.success);
   EXPECT_LT((ros::WallTime::now() - before).toSec(), 3.0) << "the driver's thread did not stop promptly";
   EXPECT_EQ(clouds.size(), 0u);
+}
+
+// kinect.launch with backend:=freenect on a fakenect dump that synth wrote (an actor waving, 60
+// frames): the driver replays it, the tracker finds the person, and the classifier labels them when
+// the dump ends (segmented mode, with the two-class posture_flow test model).
+TEST(Kinect, FakenectDumpThroughKinectLaunchGivesLabels)
+{
+  ros::NodeHandle nh;
+  LogWatch ended(nh, "has no more frames", rosgraph_msgs::Log::INFO);
+  Collector<action_flow::TrackedPeople> people(nh, "action_flow/people", 100);
+  Collector<action_flow::ActionLabel> labels(nh, "action_flow/labels", 10);
+  Collector<sensor_msgs::PointCloud2> clouds(nh, "camera/depth_registered/points", 2);
+  Collector<sensor_msgs::CameraInfo> info(nh, "camera/rgb/camera_info", 2);
+  ASSERT_TRUE(clouds.waitForCount(1, 30.0)) << "no cloud from the fakenect dump";
+  ASSERT_TRUE(info.waitForCount(1, 5.0));
+  EXPECT_NEAR(info.messages().front()->K[0], 525.0, 1e-6) << "the Kinect v1's colour camera";
+  info.shutdown();
+  const auto c = clouds.messages().front();
+  clouds.shutdown();
+  EXPECT_EQ(c->width, 640u);
+  EXPECT_EQ(c->height, 480u);
+  std::size_t finite = 0;
+  for (sensor_msgs::PointCloud2ConstIterator<float> z(*c, "z"); z != z.end(); ++z)
+    finite += std::isfinite(*z) && *z > 0.3f && *z < 10.0f;
+  EXPECT_GT(finite, 640u * 480u / 2) << "the room's depth did not come through";
+  ASSERT_TRUE(labels.waitForCount(1, 60.0)) << "no label after the dump ended";
+  EXPECT_GT(ended.count(), 0u) << "the driver did not report the end of the dump";
+  bool seen = false;
+  for (const auto& p : people.messages())
+    for (const auto& person : p->people)
+      seen |= person.id == labels.messages().front()->track_id;
+  EXPECT_TRUE(seen) << "the labelled track was never among the tracked people";
+  const std::string label = labels.messages().front()->label;
+  EXPECT_TRUE(label == "still" || label == "moving") << label;
 }
 
 int main(int argc, char** argv)
