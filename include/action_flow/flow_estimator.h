@@ -86,7 +86,7 @@ public:
   /** @brief Indices of all points closer than @p radius to @p q, in no particular order. */
   void within(const Eigen::Vector3f& q, float radius, std::vector<std::size_t>& indices) const;
 
-  struct Index;  // the neighbour index (a uniform grid), defined in flow_estimator.cpp
+  struct Index;  // the neighbour index (a uniform grid), defined in src/core/neighbour_grid.h
   /** @brief The neighbour index, for FlowEstimator; its type is opaque outside the core. */
   const Index& index() const { return *index_; }
 

@@ -110,7 +110,7 @@ if [ "$found" = "$PREFIX/share/action_flow" ]; then pass rospack_find_installed_
 else fail rospack_find_installed_package "rospack find action_flow gives '$found', expected $PREFIX/share/action_flow"; fi
 
 # ---- tools ---------------------------------------------------------------------------------------
-for tool in train evaluate synth evaluate_tracking; do
+for tool in train evaluate synth evaluate_tracking record; do
   start
   out=$(timeout 60 "$TMP/in_prefix" rosrun action_flow "$tool" --help 2>&1)
   rc=$?
