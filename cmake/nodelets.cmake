@@ -37,10 +37,7 @@ target_link_libraries(action_flow_driver action_flow_devices action_flow_ros ${c
 
 # People tracker stage, over the tracker part's core library.
 add_library(action_flow_tracker_nodelet src/nodelets/people_tracker_nodelet.cpp)
-target_link_libraries(action_flow_tracker_nodelet action_flow_ros ${catkin_LIBRARIES})
-if(TARGET action_flow_tracker)
-  target_link_libraries(action_flow_tracker_nodelet action_flow_tracker)
-endif()
+target_link_libraries(action_flow_tracker_nodelet action_flow_ros action_flow_tracker ${catkin_LIBRARIES})
 
 # Test aids (in the devel space's nodelets.xml so that rostests can load them by name; not
 # installed, and left out of the installed nodelets.xml, cmake/install.cmake): a scene /

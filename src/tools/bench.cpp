@@ -12,18 +12,11 @@
 #include <action_flow/posture_flow.h>
 #include <action_flow/pca.h>
 #include <action_flow/sequence_descriptor.h>
-#ifdef ACTION_FLOW_BENCH_EVAL
 #include <action_flow/evaluation.h>
 
 #include <dirent.h>
-#endif
-#ifdef ACTION_FLOW_BENCH_SYNTH
 #include <action_flow/synth/synth.h>
-#endif
-#ifdef ACTION_FLOW_BENCH_TRACKER
 #include <action_flow/people_tracker.h>
-#endif
-#ifdef ACTION_FLOW_BENCH_DEPTH
 #include <action_flow/depth_cloud.h>
 #include <action_flow/ros/input_checks.h>
 #include <depth_image_proc/depth_conversions.h>
@@ -31,7 +24,6 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <boost/make_shared.hpp>
 #include <cstring>
-#endif
 
 #include <Eigen/Geometry>
 
@@ -52,11 +44,7 @@ using namespace action_flow::bench;
 
 namespace
 {
-#ifdef ACTION_FLOW_BENCH_SYNTH
 const char* const kDefaultSource = "synth";
-#else
-const char* const kDefaultSource = "generated";
-#endif
 
 struct Options
 {
@@ -147,13 +135,8 @@ Options parse(int argc, char** argv)
   }
   if (o.pairs < 1 || o.k < 1 || o.training < 2 || o.queries < 1 || o.octree_resolution < 0 || o.voxels.empty())
     usage("--pairs, --k, --queries must be >= 1, --training >= 2, --octree-resolution >= 0, --voxels not empty");
-#ifdef ACTION_FLOW_BENCH_SYNTH
   if (o.source != "synth" && o.source != "generated")
     usage("--source must be synth or generated");
-#else
-  if (o.source != "generated")
-    usage("--source must be generated (this build has no synth part)");
-#endif
   for (float v : o.voxels)
     if (!(v >= 0.002f && v <= 0.2f))
       usage("voxel sizes must be in [0.002, 0.2] m");
@@ -317,7 +300,6 @@ void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>&
   std::fflush(stdout);
 }
 
-#ifdef ACTION_FLOW_BENCH_EVAL
 // The samples of one evaluate cache folder (<person>_<action>_<repetition>_<key>.frames), split
 // into training and query sequences by person.
 void loadCachedSequences(const Options& o, std::vector<DescriptorSequence>& train, std::vector<DescriptorSequence>& queries)
@@ -353,7 +335,6 @@ void loadCachedSequences(const Options& o, std::vector<DescriptorSequence>& trai
   if (train.size() < 2 || queries.empty())
     throw std::runtime_error(o.descriptors + ": need training sequences and queries of person " + o.query_person);
 }
-#endif
 
 // The default recognizer's classification: temporal pyramid of posture-and-flow frames, then the
 // linear classifier (a product with the weights), on generated sequences of the same shape.
@@ -426,16 +407,12 @@ void benchClassification(const Options& o)
   }
   else
   {
-#ifdef ACTION_FLOW_BENCH_EVAL
     loadCachedSequences(o, train, queries);
     std::set<std::string> labels;
     for (const auto& t : train)
       labels.insert(t.label);
     actions = static_cast<int>(labels.size());
     source = "real frame descriptors from " + o.descriptors + ", queries: " + o.query_person;
-#else
-    throw std::runtime_error("--descriptors needs the evaluation library, which this build lacks");
-#endif
   }
   std::vector<Eigen::VectorXf> all_frames;
   for (const auto& s : train)
@@ -519,11 +496,9 @@ void benchClassification(const Options& o)
 void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>>& by_voxel, StageSamples& tracker_time,
                    std::size_t& tracker_people, Cloud& last_frame)
 {
-#ifdef ACTION_FLOW_BENCH_TRACKER
   std::unique_ptr<PeopleTracker> tracker;
   if (o.tracker)
     tracker = std::make_unique<PeopleTracker>();
-#endif
   auto addFrame = [&](const Cloud& full, const std::vector<std::uint8_t>& mask, double stamp, bool first,
                       const Eigen::Vector4f& ground) {
     last_frame = full;
@@ -539,7 +514,6 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
       seqs.back().clouds.push_back(voxelise(person, v));
       seqs.back().stamps.push_back(stamp);
     }
-#ifdef ACTION_FLOW_BENCH_TRACKER
     if (tracker)
     {
       Stopwatch w(o.clock);
@@ -547,16 +521,11 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
       tracker_time.add(w.seconds());
       tracker_people += r.people.size();
     }
-#else
-    (void)tracker_time;
-    (void)tracker_people;
-#endif
   };
   int pairs = 0;
   Cloud full;
   std::vector<std::uint8_t> mask;
   Stopwatch w(o.clock);
-#ifdef ACTION_FLOW_BENCH_SYNTH
   if (o.source == "synth")
   {
     for (int p = 1; pairs < o.pairs; ++p)
@@ -583,7 +552,6 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
     }
     return;
   }
-#endif
   const MovingPerson person;
   const Eigen::Vector4f ground(0, -1, 0, person.params().camera_height);  // optical frame: y down
   for (int i = 0; i <= o.pairs; ++i)
@@ -593,7 +561,6 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
   }
 }
 
-#ifdef ACTION_FLOW_BENCH_DEPTH
 // Depth image to organized XYZRGB cloud, 640x480: the live pipeline's path (depth_image_proc's
 // conversion into a PointCloud2 with rgb, as its point_cloud_xyzrgb nodelet does, then the
 // tracker's header check and copy into a pcl cloud) against the tools' depthToCloud (16-bit
@@ -664,7 +631,6 @@ void benchDepthConversion(const Options& o, const Cloud& frame)
   header("### Depth image to cloud, 640x480 (ours = depthToCloud; base = depth_image_proc + the tracker's check and copy)");
   row("depth image to cloud", ours, &dip);
 }
-#endif
 
 int main(int argc, char** argv)
 {
@@ -678,9 +644,7 @@ int main(int argc, char** argv)
     collectFrames(o, by_voxel, tracker_time, tracker_people, last_frame);
     for (float voxel : o.voxels)
       benchFlow(o, voxel, by_voxel[voxel]);
-#ifdef ACTION_FLOW_BENCH_DEPTH
     benchDepthConversion(o, last_frame);
-#endif
     if (!tracker_time.empty())
     {
       header("### People tracker on full 640x480 clouds (PeopleTracker::update)");
