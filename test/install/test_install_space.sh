@@ -4,7 +4,7 @@
 # not move; under DESTDIR the whole install space lands in the folder, and its setup.bash works
 # from there) and, in a clean
 # environment (env -i, PATH=/usr/bin:/bin) with only that prefix's setup.bash sourced, checks that
-#   - the tools start (train, evaluate, synth, demo_core: --help exits 0; bench loads its libraries),
+#   - the tools start (train, evaluate, synth, evaluate_tracking, record: --help exits 0; bench loads its libraries),
 #     and no installed program or library misses a library or loads one from the build tree;
 #   - the user scripts are installed (and every other executable script is a source-tree one);
 #   - no test aid is installed, and the installed nodelets.xml names only installed libraries;
@@ -117,10 +117,6 @@ for tool in train evaluate synth evaluate_tracking record; do
   if [ $rc = 0 ] && printf '%s' "$out" | grep -q "usage"; then pass "rosrun_${tool}_help"
   else fail "rosrun_${tool}_help" "rosrun action_flow $tool --help: exit $rc: $(printf '%s' "$out" | tail -n 3)"; fi
 done
-start
-out=$(timeout 60 "$TMP/in_prefix" rosrun action_flow demo_core 2>&1); rc=$?
-if [ $rc = 0 ]; then pass rosrun_demo_core
-else fail rosrun_demo_core "rosrun action_flow demo_core: exit $rc: $(printf '%s' "$out" | tail -n 3)"; fi
 # bench --help prints its usage and exits 2; what matters here is that it starts at all.
 start
 out=$(timeout 60 "$TMP/in_prefix" rosrun action_flow bench --help 2>&1); rc=$?
