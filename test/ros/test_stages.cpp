@@ -819,11 +819,11 @@ TEST(Driver, AbsentDeviceIsRetriedAndTheNodeletUnloads)
 {
   ros::NodeHandle nh;
   LogWatch errors(nh, "cannot open OpenNI2 device", rosgraph_msgs::Log::ERROR);
-  Collector<sensor_msgs::PointCloud2> clouds(nh, "depth_registered/points", 5);
+  Collector<sensor_msgs::PointCloud2> clouds(nh, "camera/depth_registered/points", 5);
   EXPECT_TRUE(waitFor([&] { return errors.count() >= 2; }, 8.0)) << "no repeated clear error for an absent device";
   ros::ServiceClient unload = nh.serviceClient<nodelet::NodeletUnload>("manager/unload_nodelet");
   nodelet::NodeletUnload srv;
-  srv.request.name = "/driver";
+  srv.request.name = "/camera/driver";
   const auto before = ros::WallTime::now();
   ASSERT_TRUE(unload.call(srv));
   EXPECT_TRUE(srv.response.success);
