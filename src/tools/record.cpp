@@ -73,6 +73,86 @@ int nextRepetition(const std::vector<std::string>& rows, const std::string& pers
   return next;
 }
 
+// What a recording got: depth frames, and the bytes of its compressed images.
+struct Recorded
+{
+  int frames = 0;
+  double bytes = 0.0;
+};
+
+// Writes the driver's frames into the bag @p tmp, as the virtual Kinect lays its bags out, until
+// Ctrl-C, @p seconds of frames or @p idle_stop seconds without one (0 = no such limit).
+Recorded recordFrames(ros::NodeHandle& nh, const fs::path& tmp, int quality, double seconds, double idle_stop)
+{
+  const synth::BagOptions topics;  // the layout train reads by default
+  Recorded out;
+  double first = -1.0, last_wall = 0.0;
+  tools::GuardedBag guarded(tmp.string(), rosbag::bagmode::Write);
+  rosbag::Bag& bag = *guarded;
+  bag.setCompression(rosbag::compression::LZ4);
+  const auto onRgb = [&](const sensor_msgs::ImageConstPtr& m) {
+    if (m->encoding != "rgb8" || m->step != 3 * m->width || m->data.size() != std::size_t(m->step) * m->height)
+    {
+      ROS_ERROR_THROTTLE(5, "record: colour image is not packed rgb8 (%s): skipped", m->encoding.c_str());
+      return;
+    }
+    sensor_msgs::CompressedImage c;
+    c.header = m->header;
+    c.format = "rgb8; jpeg compressed bgr8";
+    c.data = synth::encodeJpeg(m->data, int(m->width), int(m->height), quality);
+    out.bytes += c.data.size();
+    bag.write(topics.rgb_topic + "/compressed", m->header.stamp, c);
+  };
+  const auto onDepth = [&](const sensor_msgs::ImageConstPtr& m) {
+    if (m->encoding != "16UC1" || m->step != 2 * m->width || m->data.size() != std::size_t(m->step) * m->height)
+    {
+      ROS_ERROR_THROTTLE(5, "record: depth image is not packed 16UC1 (%s): skipped", m->encoding.c_str());
+      return;
+    }
+    std::vector<std::uint16_t> mm(m->width * m->height);
+    std::memcpy(mm.data(), m->data.data(), m->data.size());
+    sensor_msgs::CompressedImage c;
+    c.header = m->header;
+    c.format = "16UC1; png compressed 16UC1";
+    c.data = synth::encodePng16(mm, int(m->width), int(m->height), 3);
+    out.bytes += c.data.size();
+    bag.write(topics.depth_topic + "/compressed", m->header.stamp, c);
+    if (first < 0.0)
+      first = m->header.stamp.toSec();
+    last_wall = ros::WallTime::now().toSec();
+    if (++out.frames % 30 == 0)
+      std::cout << "record: " << out.frames << " frames" << std::endl;
+  };
+  const auto onInfo = [&](const sensor_msgs::CameraInfoConstPtr& m) { bag.write(topics.info_topic, m->header.stamp, *m); };
+  ros::Subscriber s1 = nh.subscribe<sensor_msgs::Image>("rgb/image_raw", 10, onRgb);
+  ros::Subscriber s2 = nh.subscribe<sensor_msgs::Image>("depth_registered/image_raw", 10, onDepth);
+  ros::Subscriber s3 = nh.subscribe<sensor_msgs::CameraInfo>("rgb/camera_info", 10, onInfo);
+  const double start = ros::WallTime::now().toSec();
+  while (!g_stop && ros::ok())
+  {
+    ros::spinOnce();
+    const double now = ros::WallTime::now().toSec();
+    if (out.frames > 0 && ((seconds > 0.0 && ros::Time::now().toSec() - first >= seconds) ||
+                           (idle_stop > 0.0 && now - last_wall >= idle_stop)))
+      break;
+    if (out.frames == 0 && idle_stop > 0.0 && now - start > 60.0)
+      break;  // a driver that never delivers: give up after a minute
+    ros::WallDuration(0.005).sleep();
+  }
+  return out;
+}
+
+// Adds @p row to the index (header first if it is new), keeping its rows; written atomically.
+void appendToIndex(const fs::path& index, const std::string& row)
+{
+  std::vector<std::string> rows = readRows(index);
+  rows.push_back(row);
+  std::string text;
+  for (const std::string& r : rows)
+    text += r + "\n";
+  writeTextAtomically(index.string(), text);
+}
+
 int record(const tools::Args& args)
 {
   const std::string person = args.get("person"), action = args.get("action");
@@ -96,65 +176,10 @@ int record(const tools::Args& args)
     throw std::runtime_error(bag_path.string() + " exists already: give another --repetition");
 
   ros::NodeHandle nh;
-  synth::BagOptions topics;  // the layout train reads by default
-  int frames = 0;
-  double first = -1.0, last_wall = 0.0, size = 0.0;
-  {
-    tools::GuardedBag guarded(tmp.string(), rosbag::bagmode::Write);
-    rosbag::Bag& bag = *guarded;
-    bag.setCompression(rosbag::compression::LZ4);
-    const auto onRgb = [&](const sensor_msgs::ImageConstPtr& m) {
-      if (m->encoding != "rgb8" || m->step != 3 * m->width || m->data.size() != std::size_t(m->step) * m->height)
-      {
-        ROS_ERROR_THROTTLE(5, "record: colour image is not packed rgb8 (%s): skipped", m->encoding.c_str());
-        return;
-      }
-      sensor_msgs::CompressedImage c;
-      c.header = m->header;
-      c.format = "rgb8; jpeg compressed bgr8";
-      c.data = synth::encodeJpeg(m->data, int(m->width), int(m->height), quality);
-      size += c.data.size();
-      bag.write(topics.rgb_topic + "/compressed", m->header.stamp, c);
-    };
-    const auto onDepth = [&](const sensor_msgs::ImageConstPtr& m) {
-      if (m->encoding != "16UC1" || m->step != 2 * m->width || m->data.size() != std::size_t(m->step) * m->height)
-      {
-        ROS_ERROR_THROTTLE(5, "record: depth image is not packed 16UC1 (%s): skipped", m->encoding.c_str());
-        return;
-      }
-      std::vector<std::uint16_t> mm(m->width * m->height);
-      std::memcpy(mm.data(), m->data.data(), m->data.size());
-      sensor_msgs::CompressedImage c;
-      c.header = m->header;
-      c.format = "16UC1; png compressed 16UC1";
-      c.data = synth::encodePng16(mm, int(m->width), int(m->height), 3);
-      size += c.data.size();
-      bag.write(topics.depth_topic + "/compressed", m->header.stamp, c);
-      if (first < 0.0)
-        first = m->header.stamp.toSec();
-      last_wall = ros::WallTime::now().toSec();
-      if (++frames % 30 == 0)
-        std::cout << "record: " << frames << " frames" << std::endl;
-    };
-    const auto onInfo = [&](const sensor_msgs::CameraInfoConstPtr& m) { bag.write(topics.info_topic, m->header.stamp, *m); };
-    ros::Subscriber s1 = nh.subscribe<sensor_msgs::Image>("rgb/image_raw", 10, onRgb);
-    ros::Subscriber s2 = nh.subscribe<sensor_msgs::Image>("depth_registered/image_raw", 10, onDepth);
-    ros::Subscriber s3 = nh.subscribe<sensor_msgs::CameraInfo>("rgb/camera_info", 10, onInfo);
-    std::cout << "record: " << person << " performing " << action << " into " << bag_path.string()
-              << " (Ctrl-C stops)" << std::endl;
-    const double start = ros::WallTime::now().toSec();
-    while (!g_stop && ros::ok())
-    {
-      ros::spinOnce();
-      const double now = ros::WallTime::now().toSec();
-      if (frames > 0 && ((seconds > 0.0 && ros::Time::now().toSec() - first >= seconds) ||
-                         (idle_stop > 0.0 && now - last_wall >= idle_stop)))
-        break;
-      if (frames == 0 && idle_stop > 0.0 && now - start > 60.0)
-        break;  // a driver that never delivers: give up after a minute
-      ros::WallDuration(0.005).sleep();
-    }
-  }
+  std::cout << "record: " << person << " performing " << action << " into " << bag_path.string()
+            << " (Ctrl-C stops)" << std::endl;
+  const Recorded recorded = recordFrames(nh, tmp, quality, seconds, idle_stop);
+  const int frames = recorded.frames;
   if (frames == 0)
   {
     fs::remove(tmp, ec);
@@ -164,13 +189,9 @@ int record(const tools::Args& args)
   fs::rename(tmp, bag_path, ec);
   if (ec)
     throw std::runtime_error(bag_path.string() + ": cannot rename the recording into place: " + ec.message());
-  std::vector<std::string> rows = readRows(index);
-  rows.push_back(name + "," + person + "," + action + "," + std::to_string(repetition) + "," + std::to_string(frames));
-  std::string text;
-  for (const std::string& r : rows)
-    text += r + "\n";
-  writeTextAtomically(index.string(), text);
-  std::cout << "record: " << frames << " frames (" << int(size / 1e6 + 0.5) << " MB) in " << bag_path.string()
+  appendToIndex(index, name + "," + person + "," + action + "," + std::to_string(repetition) + "," +
+                           std::to_string(frames));
+  std::cout << "record: " << frames << " frames (" << int(recorded.bytes / 1e6 + 0.5) << " MB) in " << bag_path.string()
             << ", added to " << index.string() << std::endl;
   return 0;
 }
