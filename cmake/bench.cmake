@@ -6,7 +6,7 @@ add_library(action_flow_bench STATIC
 target_link_libraries(action_flow_bench action_flow_core ${PCL_LIBRARIES})
 
 add_executable(bench src/tools/bench.cpp)
-target_link_libraries(bench action_flow_bench action_flow_core)
+target_link_libraries(bench action_flow_bench action_flow_core Boost::program_options)
 
 install(TARGETS bench RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 

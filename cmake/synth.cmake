@@ -20,7 +20,7 @@ target_link_libraries(action_flow_synth_bag action_flow_synth ${catkin_LIBRARIES
 add_dependencies(action_flow_synth_bag ${catkin_EXPORTED_TARGETS})
 
 add_executable(synth src/tools/synth.cpp)
-target_link_libraries(synth action_flow_synth_bag action_flow_synth pthread)
+target_link_libraries(synth action_flow_synth_bag action_flow_synth Boost::program_options pthread)
 
 install(TARGETS action_flow_synth action_flow_synth_bag synth
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}

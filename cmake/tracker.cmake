@@ -39,7 +39,7 @@ endif()
 add_executable(test_tracker_benchmark test/tracker/tracker_benchmark.cpp)
 set_target_properties(test_tracker_benchmark PROPERTIES OUTPUT_NAME tracker_benchmark)
 target_compile_definitions(test_tracker_benchmark PRIVATE ACTION_FLOW_DATA_DIR="${PROJECT_SOURCE_DIR}/../shared/data")
-target_link_libraries(test_tracker_benchmark action_flow_tracker ${catkin_LIBRARIES})
+target_link_libraries(test_tracker_benchmark action_flow_tracker ${catkin_LIBRARIES} Boost::program_options)
 
 install(TARGETS action_flow_tracker
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}

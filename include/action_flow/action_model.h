@@ -27,15 +27,20 @@ enum class Recognizer
   Paper,       ///< the paper's: SUMFLOW/MEANFLOW frames, F of them concatenated (PCA optional), k-NN
   PostureFlow  ///< the default: posture-and-flow frames, a temporal pyramid, a linear classifier
 };
+template <>
+struct EnumNames<Recognizer>
+{
+  static constexpr const char* names[] = { "paper", "posture_flow" };
+};
 /** "paper" or "posture_flow". */
 std::string toString(Recognizer r);
 /** @throws std::invalid_argument for any other name. */
 Recognizer recognizerFromString(const std::string& name);
 
 /**
- * @brief Every parameter of the method, from person cloud to sequence descriptor. The struct's
- *        defaults are the paper's method; config/recognition.yaml and the tools select the
- *        default recognizer, posture_flow.
+ * @brief Every parameter of the method, from person cloud to sequence descriptor (declared in
+ *        visit(); param_table.h). The struct's defaults are the paper's method;
+ *        defaultRecognitionParams() selects the default recognizer, posture_flow.
  */
 struct RecognitionParams
 {
@@ -48,6 +53,22 @@ struct RecognitionParams
   double pca_variance = 0.99;
   int neighbours = 1;        ///< paper (and posture_flow with classifier nn): k of the k-NN classifier
   PyramidParams pyramid;     ///< posture_flow: the parts after the frame descriptor
+
+  template <class Self, class V>
+  static void visit(Self& p, V&& v)
+  {
+    v("recognizer", p.recognizer,
+      "posture_flow (posture and flow, temporal pyramid, linear classifier) or paper (Munaro et al.)",
+      Shapes::Frames);
+    v("voxel_size", p.voxel_size, "m: person clouds are voxelised to this (the paper's 0.02)", Shapes::Frames);
+    FlowParams::visit(p.flow, v);
+    GridParams::visit(p.grid, v);
+    v("frames", p.frames, "paper: F, frames per sequence descriptor", Shapes::Model);
+    v("use_pca", p.use_pca, "paper: project frame descriptors on a PCA basis", Shapes::Model);
+    v("pca_variance", p.pca_variance, "paper: the share of variance the PCA basis keeps", Shapes::Model);
+    v("neighbours", p.neighbours, "k of the k-NN classifier (paper, and posture_flow with nn)", Shapes::Model);
+    PyramidParams::visit(p.pyramid, v);
+  }
 };
 
 /** @brief The default recognizer's parameters (posture_flow, every part on). */
@@ -64,9 +85,9 @@ Eigen::VectorXf frameDescriptor(const RecognitionParams& p, const Cloud& cloud, 
                                 const PersonFrame& where);
 
 /**
- * @brief Names the parameters in which @p model and @p runtime differ in a way that changes the
- *        descriptors ("flow.k: model 50, runtime 30; ..."); empty when they agree.
- *        The classifier's k may differ: it does not shape the descriptors.
+ * @brief Names the parameters that shape the frame descriptors (Shapes::Frames) in which @p model
+ *        and @p runtime differ ("flow/k: model 50, runtime 30; ..."); empty when they agree. The
+ *        others (the classifier's k, the pyramid's parts) are the model's to decide.
  */
 std::string describeDifferences(const RecognitionParams& model, const RecognitionParams& runtime);
 
@@ -102,11 +123,11 @@ private:
 struct ActionModel
 {
   /**
-   * Bumped whenever the layout of the file changes. Versions 1 (the paper's recognizer only) and 2
-   * (posture_flow without the geometry block) still load and classify as they did; other versions
-   * are refused with a clear message.
+   * Bumped whenever the layout of the file changes; other versions are refused with a clear
+   * message. Version 4 stores the parameters by name (param_table.h), so adding one no longer
+   * changes the layout; files of versions 1-3 must be retrained.
    */
-  static constexpr std::uint32_t kFormatVersion = 3;
+  static constexpr std::uint32_t kFormatVersion = 4;
 
   RecognitionParams params;
   Pca pca;                          ///< empty unless params.use_pca

@@ -5,6 +5,7 @@
  */
 #pragma once
 
+#include <action_flow/param_table.h>
 #include <action_flow/types.h>
 
 #include <cstddef>
@@ -33,6 +34,21 @@ struct FlowParams
    * point on a static surface, whose neighbours are all still, finds none.
    */
   float neighbour_radius = 0.05f;
+  /** Frames of one person further apart than this (s) are not matched: the track's flow restarts
+   *  (a dropped stretch of frames, a paused bag). The nodelets and the offline tools share it. */
+  double max_gap = 1.0;
+
+  template <class Self, class V>
+  static void visit(Self& p, V&& v)
+  {
+    v("flow/k", p.k, "nearest neighbours in XYZ among which the nearest in HSV is taken", Shapes::Frames);
+    v("flow/reciprocal", p.reciprocal, "keep only reciprocal correspondences", Shapes::Frames);
+    v("flow/reject_outliers", p.reject_outliers, "apply the speed and isolation rules (step 4)", Shapes::Frames);
+    v("flow/min_speed", p.min_speed, "m/s: slower points are dropped", Shapes::Frames);
+    v("flow/isolation_speed", p.isolation_speed, "m/s: a moving point needs a neighbour faster than this", Shapes::Frames);
+    v("flow/neighbour_radius", p.neighbour_radius, "m: where that neighbour is looked for", Shapes::Frames);
+    v("flow/max_gap", p.max_gap, "s: frames further apart restart the track's flow", Shapes::Frames);
+  }
 };
 
 /** @brief A colour in HSV, each channel in [0,1]; hue wraps around. */

@@ -4,6 +4,7 @@
  */
 #pragma once
 
+#include <action_flow/param_table.h>
 #include <action_flow/types.h>
 
 #include <Eigen/Core>
@@ -16,6 +17,12 @@ enum class FlowAggregation
 {
   Sum,  ///< SUMFLOW: the sum of the vectors (the paper's better variant)
   Mean  ///< MEANFLOW: their mean
+};
+
+template <>
+struct EnumNames<FlowAggregation>
+{
+  static constexpr const char* names[] = { "sumflow", "meanflow" };
 };
 
 /** @brief "sumflow" or "meanflow". */
@@ -35,6 +42,19 @@ struct GridParams
   FlowAggregation aggregation = FlowAggregation::Sum;
 
   int cells() const { return parts_x * parts_y * parts_z; }
+
+  template <class Self, class V>
+  static void visit(Self& p, V&& v)
+  {
+    v("grid/parts_x", p.parts_x, "cubes across (width)", Shapes::Frames);
+    v("grid/parts_y", p.parts_y, "cubes up (height)", Shapes::Frames);
+    v("grid/parts_z", p.parts_z, "cubes along the depth", Shapes::Frames);
+    v("grid/width", p.width, "m: the grid's width for a person of reference_height", Shapes::Frames);
+    v("grid/height", p.height, "m: its height", Shapes::Frames);
+    v("grid/depth", p.depth, "m: its depth", Shapes::Frames);
+    v("grid/reference_height", p.reference_height, "m: the grid scales with height / this", Shapes::Frames);
+    v("descriptor", p.aggregation, "paper only: how a cube's flow vectors are combined", Shapes::Frames);
+  }
 };
 
 /**

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,8 +40,7 @@ struct TrackerParams
   /** Minimum points of a person cluster at the detection voxel size. */
   int min_points = 30;
   /** Use this ground plane (a,b,c,d, normal up, in the input frame) instead of estimating it. */
-  bool fixed_ground = false;
-  Eigen::Vector4f ground = Eigen::Vector4f(0, -1, 0, 1.1f);
+  std::optional<Eigen::Vector4f> ground;
   /** PCL HOG+SVM person classifier file; empty = no HOG confirmation; "default" = PCL's trained
    *  classifier shipped with the package (defaultHogClassifierFile(); no HOG if it is not found).
    *  Off by default: PCL's classifier was trained on photographs of people and rejects the virtual
@@ -126,6 +126,46 @@ struct TrackerParams
   bool align_to_facing = false;
   /** Time constant (s) of the facing's exponential smoothing per track; 0 takes each frame's own. */
   double facing_smoothing = 0.5;
+
+  template <class Self, class V>
+  static void visit(Self& p, V&& v)
+  {
+    const Shapes s = Shapes::Frames;  // every tracker parameter shapes which clouds make the descriptors
+    v("detection_voxel_size", p.detection_voxel_size, "m: voxel size for detection", s);
+    v("person_voxel_size", p.person_voxel_size, "m: voxel size of the published person clouds (= voxel_size)", s);
+    v("max_range", p.max_range, "m: farther points are ignored", s);
+    v("min_height", p.min_height, "m: a new person's least height (top of head above the ground)", s);
+    v("max_height", p.max_height, "m: a person's greatest height", s);
+    v("min_width", p.min_width, "m: a person's least horizontal extent", s);
+    v("max_width", p.max_width, "m: a new person's greatest horizontal extent", s);
+    v("ground_tolerance", p.ground_tolerance, "m: points this close to the ground plane are ground", s);
+    v("cluster_tolerance", p.cluster_tolerance, "m: Euclidean clustering tolerance", s);
+    v("min_points", p.min_points, "least points of a person cluster at the detection voxel size", s);
+    v("ground", p.ground, "a fixed ground plane (normal up, input frame); [] = estimated", s);
+    v("hog_classifier_file", p.hog_classifier_file, "PCL HOG+SVM file; \"\" = no HOG, \"default\" = PCL's shipped one", s);
+    v("gate", p.gate, "m: a detection farther from a track's prediction starts a new track", s);
+    v("lost_after", p.lost_after, "s: a track not seen this long is lost", s);
+    v("confirm_after", p.confirm_after, "detections before a new track is reported", s);
+    v("sampling_factor", p.sampling_factor, "organized clouds: every n-th row and column feed detection", s);
+    v("up_hint", p.up_hint, "roughly up in the input frame (camera -y; +z with a z-up fixed frame)", s);
+    v("ground_max_angle", p.ground_max_angle, "rad: how far the ground's normal may be from up_hint", s);
+    v("ground_min_area", p.ground_min_area, "m^2 of floor that make a ground plane", s);
+    v("assume_ground_below_points", p.assume_ground_below_points, "no floor visible: assume it below the lowest points", s);
+    v("min_head_distance", p.min_head_distance, "m: heads closer than this belong to one person", s);
+    v("hog_min_confidence", p.hog_min_confidence, "with a HOG file: lower scores are rejected", s);
+    v("camera_height", p.camera_height, "m above the floor; 0 = unknown (the ground is then estimated)", s);
+    v("camera_pitch", p.camera_pitch, "rad, downward; with camera_height", s);
+    v("reject_top_at_border", p.reject_top_at_border, "a cluster whose top is the image's top edge is no person", s);
+    v("min_free_fraction", p.min_free_fraction, "share of head rows with a depth step on both sides (0 = off)", s);
+    v("free_depth_step", p.free_depth_step, "m: the depth step around a free-standing head", s);
+    v("tracked_min_height", p.tracked_min_height, "m: a confirmed track continues on clusters this low", s);
+    v("tracked_max_width", p.tracked_max_width, "m: ... and this wide", s);
+    v("remove_walls", p.remove_walls, "remove walls before clustering", s);
+    v("max_head_ratio", p.max_head_ratio, "a new person's head width / shoulder width at most (0 = off)", s);
+    v("hidden_lost_after", p.hidden_lost_after, "s: a track hidden behind a nearer person is kept this long", s);
+    v("align_to_facing", p.align_to_facing, "the grid turns to where the person faces", s);
+    v("facing_smoothing", p.facing_smoothing, "s: time constant of the facing's smoothing", s);
+  }
 };
 
 /**

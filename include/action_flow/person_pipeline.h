@@ -37,11 +37,8 @@ public:
     FlowVectors unfiltered;
   };
 
-  /**
-   * @param max_gap frames further apart than this (s) are not matched: the track restarts
-   *        (a dropped stretch of frames, a paused bag)
-   */
-  explicit FlowTrack(const FlowParams& params = FlowParams(), double max_gap = 1.0, bool keep_unfiltered = false);
+  /** Frames further apart than params.max_gap are not matched: the track restarts. */
+  explicit FlowTrack(const FlowParams& params = FlowParams(), bool keep_unfiltered = false);
 
   /** @brief Adds the next cloud of this person; non-finite points are ignored. */
   Step add(const Cloud& cloud, double stamp);

@@ -72,6 +72,37 @@ struct PolicyParams
 
   /** @throws std::invalid_argument naming the first parameter out of range. */
   void validate() const;
+
+  template <class Self, class V>
+  static void visit(Self& p, V&& v)
+  {
+    const Shapes s = Shapes::Runtime;
+    v("mode", p.mode, "segmented: a label per sequence; online: labels while people act", s);
+    v("min_frames", p.min_frames, "a sequence of fewer frame descriptors is never classified", s);
+    v("classify_every", p.classify_every, "online: frames between classifications of a track", s);
+    v("stable_count", p.stable_count, "online: equal classifications in a row before a label is published", s);
+    v("min_confidence", p.min_confidence, "online: a label less sure than this is not published", s);
+    v("idle_labels", p.idle_labels, "online: labels that mean no action, never published", s);
+    v("motion_segments", p.motion_segments, "online: actions are cut where the body's shape changes", s);
+    v("motion_on", p.motion_on, "1/s: smoothed shape change rate that opens a segment", s);
+    v("motion_off", p.motion_off, "1/s: below this the body counts as still", s);
+    v("motion_lag", p.motion_lag, "s: the shape is compared with the one this long before", s);
+    v("motion_smooth", p.motion_smooth, "s: moving mean of the shape change rate", s);
+    v("rest_time", p.rest_time, "s of stillness that close a segment", s);
+    v("pre_roll", p.pre_roll, "s before the segment classified with it", s);
+    v("post_roll", p.post_roll, "s after its end, likewise", s);
+    v("min_segment", p.min_segment, "s: shorter segments give no label", s);
+    v("max_segment", p.max_segment, "s: a longer one is classified over its last max_segment seconds", s);
+    v("publish_early", p.publish_early, "publish while the action is under way once stable", s);
+    v("window", p.window, "sliding window (models without motion): seconds classified", s);
+    v("min_coverage", p.min_coverage, "sliding window: share of window the frames must span first", s);
+  }
+};
+
+template <>
+struct EnumNames<PolicyParams::Mode>
+{
+  static constexpr const char* names[] = { "segmented", "online" };
 };
 
 /** @brief Mode by name: "segmented" or "online". @throws std::invalid_argument otherwise. */

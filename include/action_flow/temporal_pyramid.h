@@ -22,6 +22,11 @@ enum class PyramidClassifier
   Nearest  ///< 1-NN by Euclidean distance (ActionClassifier), kept for comparison
 };
 
+template <>
+struct EnumNames<PyramidClassifier>
+{
+  static constexpr const char* names[] = { "linear", "nn" };
+};
 std::string toString(PyramidClassifier c);
 /** @throws std::invalid_argument for a name other than "linear" or "nn". */
 PyramidClassifier pyramidClassifierFromString(const std::string& name);
@@ -33,6 +38,11 @@ enum class FlowEncoding : std::uint8_t
   Bins = 1,   ///< the 6 direction bins (+x, -x, +y, -y, +z, -z): a back-and-forth motion does not cancel out
   Choose = 2  ///< by cross-validation inside the training people
 };
+template <>
+struct EnumNames<FlowEncoding>
+{
+  static constexpr const char* names[] = { "sums", "bins", "choose" };
+};
 
 /** @brief Whether training adds mirrored copies of the samples. */
 enum class MirrorMode : std::uint8_t
@@ -40,6 +50,11 @@ enum class MirrorMode : std::uint8_t
   Off = 0,
   On = 1,
   Choose = 2  ///< by cross-validation inside the training people
+};
+template <>
+struct EnumNames<MirrorMode>
+{
+  static constexpr const char* names[] = { "off", "on", "choose" };
 };
 
 /**
@@ -72,6 +87,24 @@ struct PyramidParams
    * people use either arm, and hurts where everyone uses the same one); the model records the choice.
    */
   MirrorMode mirror = MirrorMode::Choose;
+
+  template <class Self, class V>
+  static void visit(Self& p, V&& v)
+  {
+    v("pyramid/posture", p.posture, "use the cells' shares of the body's points", Shapes::Model);
+    v("pyramid/flow", p.flow, "a cell's flow as direction bins or signed sums (choose: by cross-validation)",
+      Shapes::Model);
+    v("pyramid/coarse_to_fine", p.coarse_to_fine, "cells at 1, 2 and 4 parts per axis (false: 4 only)",
+      Shapes::Model);
+    v("pyramid/geometry", p.geometry, "use the body-geometry block", Shapes::Model);
+    v("pyramid/geometry_weight", p.geometry_weight, "what the geometry block is multiplied by", Shapes::Model);
+    v("pyramid/temporal_levels", p.temporal_levels, "1 = whole sequence, 2 = + halves, 3 = + quarters",
+      Shapes::Model);
+    v("pyramid/classifier", p.classifier, "logistic regression (liblinear) or 1-NN", Shapes::Model);
+    v("pyramid/c", p.c, "the linear classifier's C; 0 = by cross-validation over the training people",
+      Shapes::Model);
+    v("pyramid/mirror", p.mirror, "training adds mirrored copies (choose: by cross-validation)", Shapes::Model);
+  }
 };
 
 /**

@@ -114,110 +114,45 @@ std::uint32_t crc32(const std::string& bytes)
   return crc.checksum();
 }
 
+// The parameters as (name, text) pairs, in RecognitionParams::visit's order (param_table.h).
 void putParams(Writer& w, const RecognitionParams& p)
 {
-  w.put(p.voxel_size);
-  w.put<std::int32_t>(p.flow.k);
-  w.put<std::uint8_t>(p.flow.reciprocal);
-  w.put<std::uint8_t>(p.flow.reject_outliers);
-  w.put(p.flow.min_speed);
-  w.put(p.flow.isolation_speed);
-  w.put(p.flow.neighbour_radius);
-  w.put<std::int32_t>(p.grid.parts_x);
-  w.put<std::int32_t>(p.grid.parts_y);
-  w.put<std::int32_t>(p.grid.parts_z);
-  w.put(p.grid.width);
-  w.put(p.grid.height);
-  w.put(p.grid.depth);
-  w.put(p.grid.reference_height);
-  w.put<std::int32_t>(p.grid.aggregation == FlowAggregation::Sum ? 0 : 1);
-  w.put<std::int32_t>(p.frames);
-  w.put<std::uint8_t>(p.use_pca);
-  w.put(p.pca_variance);
-  w.put<std::int32_t>(p.neighbours);
-  // Since format version 2.
-  w.put<std::int32_t>(p.recognizer == Recognizer::Paper ? 0 : 1);
-  w.put<std::uint8_t>(p.pyramid.posture);
-  w.put<std::uint8_t>(static_cast<std::uint8_t>(p.pyramid.flow));
-  w.put<std::uint8_t>(p.pyramid.coarse_to_fine);
-  w.put<std::int32_t>(p.pyramid.temporal_levels);
-  w.put<std::int32_t>(p.pyramid.classifier == PyramidClassifier::Linear ? 0 : 1);
-  w.put(p.pyramid.c);
-  w.put<std::uint8_t>(static_cast<std::uint8_t>(p.pyramid.mirror));
-  // Since format version 3.
-  w.put<std::uint8_t>(p.pyramid.geometry);
-  w.put(p.pyramid.geometry_weight);
+  const std::vector<ParamEntry> entries = paramEntries(p);
+  w.put<std::uint64_t>(entries.size());
+  for (const ParamEntry& e : entries)
+  {
+    w.putString(e.name);
+    w.putString(e.value);
+  }
 }
 
-RecognitionParams getParams(Reader& r, std::uint32_t version)
+// Parameters the file does not name keep the struct's defaults (a newer build may add some).
+RecognitionParams getParams(Reader& r)
 {
   RecognitionParams p;
-  p.voxel_size = r.get<float>();
-  p.flow.k = r.get<std::int32_t>();
-  p.flow.reciprocal = r.get<std::uint8_t>() != 0;
-  p.flow.reject_outliers = r.get<std::uint8_t>() != 0;
-  p.flow.min_speed = r.get<float>();
-  p.flow.isolation_speed = r.get<float>();
-  p.flow.neighbour_radius = r.get<float>();
-  p.grid.parts_x = r.get<std::int32_t>();
-  p.grid.parts_y = r.get<std::int32_t>();
-  p.grid.parts_z = r.get<std::int32_t>();
-  p.grid.width = r.get<float>();
-  p.grid.height = r.get<float>();
-  p.grid.depth = r.get<float>();
-  p.grid.reference_height = r.get<float>();
-  const auto agg = r.get<std::int32_t>();
-  if (agg != 0 && agg != 1)
-    r.fail("unknown descriptor type code " + std::to_string(agg));
-  p.grid.aggregation = agg == 0 ? FlowAggregation::Sum : FlowAggregation::Mean;
-  p.frames = r.get<std::int32_t>();
-  p.use_pca = r.get<std::uint8_t>() != 0;
-  p.pca_variance = r.get<double>();
-  p.neighbours = r.get<std::int32_t>();
-  if (version < 2)
-    return p;  // version 1 held the paper's recognizer only
-  const auto recognizer = r.get<std::int32_t>();
-  if (recognizer != 0 && recognizer != 1)
-    r.fail("unknown recognizer code " + std::to_string(recognizer));
-  p.recognizer = recognizer == 0 ? Recognizer::Paper : Recognizer::PostureFlow;
-  p.pyramid.posture = r.get<std::uint8_t>() != 0;
-  const auto flow = r.get<std::uint8_t>();
-  if (flow > 2)
-    r.fail("unknown flow encoding code " + std::to_string(flow));
-  p.pyramid.flow = static_cast<FlowEncoding>(flow);
-  p.pyramid.coarse_to_fine = r.get<std::uint8_t>() != 0;
-  p.pyramid.temporal_levels = r.get<std::int32_t>();
+  const auto n = r.get<std::uint64_t>();
+  if (n > 1000)
+    r.fail("implausible number of parameters " + std::to_string(n));
+  for (std::uint64_t i = 0; i < n; ++i)
+  {
+    const std::string name = r.getString(), value = r.getString();
+    try
+    {
+      if (!setParam(p, name, value))
+        r.fail("unknown parameter '" + name + "' (written by a newer build?)");
+    }
+    catch (const std::invalid_argument& e)
+    {
+      r.fail(std::string("parameter ") + e.what());
+    }
+  }
   if (p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
     r.fail("temporal pyramid levels " + std::to_string(p.pyramid.temporal_levels) + " outside 1..4");
-  const auto classifier = r.get<std::int32_t>();
-  if (classifier != 0 && classifier != 1)
-    r.fail("unknown classifier code " + std::to_string(classifier));
-  p.pyramid.classifier = classifier == 0 ? PyramidClassifier::Linear : PyramidClassifier::Nearest;
-  p.pyramid.c = r.get<double>();
-  const auto mirror = r.get<std::uint8_t>();
-  if (mirror > 2)
-    r.fail("unknown mirror code " + std::to_string(mirror));
-  p.pyramid.mirror = static_cast<MirrorMode>(mirror);
-  // Version 2 frame descriptors had no geometry block; its models use the cells alone, as before.
-  p.pyramid.geometry = version >= 3 ? r.get<std::uint8_t>() != 0 : false;
-  if (version >= 3)
-  {
-    p.pyramid.geometry_weight = r.get<float>();
-    if (!(std::isfinite(p.pyramid.geometry_weight) && p.pyramid.geometry_weight >= 0.0f))
-      r.fail("geometry weight " + std::to_string(p.pyramid.geometry_weight) + " is not a finite value >= 0");
-  }
+  if (!(p.pyramid.geometry_weight >= 0.0f))
+    r.fail("geometry weight " + std::to_string(p.pyramid.geometry_weight) + " is not a finite value >= 0");
   return p;
 }
 
-template <class T>
-void compare(std::ostringstream& out, const char* name, const T& model, const T& runtime)
-{
-  if (model == runtime)
-    return;
-  if (out.tellp() > 0)
-    out << "; ";
-  out << name << ": model " << model << ", runtime " << runtime;
-}
 void readLinear(Reader& r, ActionModel& m)
 {
   const auto n = r.get<std::uint64_t>();
@@ -244,16 +179,14 @@ void readLinear(Reader& r, ActionModel& m)
 
 std::string toString(Recognizer r)
 {
-  return r == Recognizer::Paper ? "paper" : "posture_flow";
+  return paramText(r);
 }
 
 Recognizer recognizerFromString(const std::string& name)
 {
-  if (name == "paper")
-    return Recognizer::Paper;
-  if (name == "posture_flow")
-    return Recognizer::PostureFlow;
-  throw std::invalid_argument("unknown recognizer '" + name + "' (expected paper or posture_flow)");
+  Recognizer r;
+  parseParam(name, r);
+  return r;
 }
 
 RecognitionParams defaultRecognitionParams()
@@ -278,28 +211,12 @@ Eigen::VectorXf frameDescriptor(const RecognitionParams& p, const Cloud& cloud, 
 
 std::string describeDifferences(const RecognitionParams& m, const RecognitionParams& r)
 {
-  std::ostringstream out;
-  compare(out, "recognizer", toString(m.recognizer), toString(r.recognizer));
-  compare(out, "voxel_size", m.voxel_size, r.voxel_size);
-  compare(out, "flow.k", m.flow.k, r.flow.k);
-  compare(out, "flow.reciprocal", m.flow.reciprocal, r.flow.reciprocal);
-  compare(out, "flow.reject_outliers", m.flow.reject_outliers, r.flow.reject_outliers);
-  compare(out, "flow.min_speed", m.flow.min_speed, r.flow.min_speed);
-  compare(out, "flow.isolation_speed", m.flow.isolation_speed, r.flow.isolation_speed);
-  compare(out, "flow.neighbour_radius", m.flow.neighbour_radius, r.flow.neighbour_radius);
-  compare(out, "grid.parts_x", m.grid.parts_x, r.grid.parts_x);
-  compare(out, "grid.parts_y", m.grid.parts_y, r.grid.parts_y);
-  compare(out, "grid.parts_z", m.grid.parts_z, r.grid.parts_z);
-  compare(out, "grid.width", m.grid.width, r.grid.width);
-  compare(out, "grid.height", m.grid.height, r.grid.height);
-  compare(out, "grid.depth", m.grid.depth, r.grid.depth);
-  compare(out, "grid.reference_height", m.grid.reference_height, r.grid.reference_height);
-  if (m.recognizer == Recognizer::Paper && r.recognizer == Recognizer::Paper)
-  {
-    compare(out, "descriptor", toString(m.grid.aggregation), toString(r.grid.aggregation));
-    compare(out, "frames", m.frames, r.frames);
-  }
-  return out.str();
+  const std::vector<ParamEntry> model = paramEntries(m), runtime = paramEntries(r);
+  std::string out;
+  for (std::size_t i = 0; i < model.size(); ++i)
+    if (model[i].shapes == Shapes::Frames && model[i].value != runtime[i].value)
+      out += (out.empty() ? "" : "; ") + model[i].name + ": model " + model[i].value + ", runtime " + runtime[i].value;
+  return out;
 }
 
 void ActionModel::save(const std::string& path) const
@@ -367,9 +284,9 @@ ActionModel ActionModel::load(const std::string& path)
   if (std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
     header.fail("not an action_flow model (bad magic)");
   const auto version = header.get<std::uint32_t>();
-  if (version != kFormatVersion && version != 1 && version != 2)
+  if (version != kFormatVersion)
     header.fail("format version " + std::to_string(version) + ", this build reads version " +
-                std::to_string(kFormatVersion) + "; retrain the model");
+                std::to_string(kFormatVersion) + "; retrain the model with this build's train");
   const auto size = header.get<std::uint64_t>();
   const auto crc = header.get<std::uint32_t>();
   const std::size_t head = sizeof(kMagic) + 4 + 8 + 4;
@@ -382,7 +299,7 @@ ActionModel ActionModel::load(const std::string& path)
 
   Reader r(payload, path);
   ActionModel m;
-  m.params = getParams(r, version);
+  m.params = getParams(r);
   Eigen::MatrixXf mean = r.getMatrix(), basis = r.getMatrix(), variances = r.getMatrix();
   if (basis.size() > 0)
   {
@@ -399,8 +316,7 @@ ActionModel ActionModel::load(const std::string& path)
     m.labels.push_back(r.getString());
     m.persons.push_back(r.getString());
   }
-  if (version >= 2)
-    readLinear(r, m);
+  readLinear(r, m);
   if (!r.done())
     r.fail("unexpected data after the last record");
   if (m.params.use_pca == m.pca.empty())

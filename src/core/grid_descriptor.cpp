@@ -10,16 +10,14 @@ namespace action_flow
 {
 std::string toString(FlowAggregation a)
 {
-  return a == FlowAggregation::Sum ? "sumflow" : "meanflow";
+  return paramText(a);
 }
 
 FlowAggregation aggregationFromString(const std::string& name)
 {
-  if (name == "sumflow")
-    return FlowAggregation::Sum;
-  if (name == "meanflow")
-    return FlowAggregation::Mean;
-  throw std::invalid_argument("unknown descriptor type '" + name + "' (expected sumflow or meanflow)");
+  FlowAggregation a;
+  parseParam(name, a);
+  return a;
 }
 
 PersonFrame PersonFrame::fromGround(const Eigen::Vector3f& centroid, const Eigen::Vector4f& ground, float height,

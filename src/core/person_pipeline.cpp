@@ -1,12 +1,13 @@
 #include <action_flow/person_pipeline.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace action_flow
 {
-FlowTrack::FlowTrack(const FlowParams& params, double max_gap, bool keep_unfiltered)
-  : estimator_(params), max_gap_(max_gap), keep_unfiltered_(keep_unfiltered)
+FlowTrack::FlowTrack(const FlowParams& params, bool keep_unfiltered)
+  : estimator_(params), max_gap_(params.max_gap), keep_unfiltered_(keep_unfiltered)
 {
 }
 
@@ -45,8 +46,10 @@ PersonPipeline::PersonPipeline(const std::vector<RecognitionParams>& variants)
   std::vector<bool> needs_unfiltered;
   const auto same_matching = [](FlowParams a, FlowParams b) {
     a.reject_outliers = b.reject_outliers = true;
-    return a.k == b.k && a.reciprocal == b.reciprocal && a.min_speed == b.min_speed &&
-           a.isolation_speed == b.isolation_speed && a.neighbour_radius == b.neighbour_radius;
+    const auto ea = paramEntries(a), eb = paramEntries(b);
+    return std::equal(ea.begin(), ea.end(), eb.begin(), [](const ParamEntry& x, const ParamEntry& y) {
+      return x.value == y.value;
+    });
   };
   for (const auto& v : variants)
   {
@@ -70,7 +73,7 @@ PersonPipeline::PersonPipeline(const std::vector<RecognitionParams>& variants)
     variants_.push_back({ f, !v.flow.reject_outliers, v, SequenceDescriptor(v.frames), {}, {} });
   }
   for (std::size_t f = 0; f < shared.size(); ++f)
-    flows_.emplace_back(shared[f], 1.0, needs_unfiltered[f]);
+    flows_.emplace_back(shared[f], needs_unfiltered[f]);
 }
 
 void PersonPipeline::add(const Cloud& cloud, double stamp, const PersonFrame& where)

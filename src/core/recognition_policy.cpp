@@ -57,11 +57,9 @@ void PolicyParams::validate() const
 
 PolicyParams::Mode policyModeFromString(const std::string& name)
 {
-  if (name == "segmented")
-    return PolicyParams::Mode::Segmented;
-  if (name == "online")
-    return PolicyParams::Mode::Online;
-  throw std::invalid_argument("unknown mode '" + name + "' (segmented|online)");
+  PolicyParams::Mode m;
+  parseParam(name, m);
+  return m;
 }
 
 RecognitionPolicy::RecognitionPolicy(std::shared_ptr<const ActionModel> model, const PolicyParams& params)

@@ -7,16 +7,14 @@ namespace action_flow
 {
 std::string toString(PyramidClassifier c)
 {
-  return c == PyramidClassifier::Linear ? "linear" : "nn";
+  return paramText(c);
 }
 
 PyramidClassifier pyramidClassifierFromString(const std::string& name)
 {
-  if (name == "linear")
-    return PyramidClassifier::Linear;
-  if (name == "nn")
-    return PyramidClassifier::Nearest;
-  throw std::invalid_argument("unknown classifier '" + name + "' (expected linear or nn)");
+  PyramidClassifier c;
+  parseParam(name, c);
+  return c;
 }
 
 Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFlowDescriptor& layout,

@@ -222,8 +222,8 @@ void validateTrackerParams(const TrackerParams& p)
   require(std::isfinite(p.cluster_tolerance) && p.cluster_tolerance > 0, "cluster_tolerance must be positive");
   require(p.min_points >= 1, "min_points must be at least 1");
   require(p.sampling_factor >= 1 && p.sampling_factor <= 8, "sampling_factor must be in [1, 8]");
-  if (p.fixed_ground)
-    require(p.ground.allFinite() && p.ground.head<3>().norm() > 1e-6f, "ground must be a finite plane with a normal");
+  if (p.ground)
+    require(p.ground->allFinite() && p.ground->head<3>().norm() > 1e-6f, "ground must be a finite plane with a normal");
   require(std::isfinite(p.gate) && p.gate > 0, "gate must be positive");
   require(std::isfinite(p.lost_after) && p.lost_after > 0, "lost_after must be positive");
   require(std::isfinite(p.hidden_lost_after) && p.hidden_lost_after >= p.lost_after,
@@ -428,11 +428,11 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   }
   if (sampled->size() < 3)
   {
-    out.ground_valid = params_.fixed_ground || impl_->ground.valid();
-    out.ground_assumed = !params_.fixed_ground && impl_->ground.assumed();
+    out.ground_valid = params_.ground || impl_->ground.valid();
+    out.ground_assumed = !params_.ground && impl_->ground.assumed();
     if (out.ground_valid)
-      out.ground = params_.fixed_ground ? Eigen::Vector4f(params_.ground / params_.ground.head<3>().norm())
-                                        : impl_->ground.plane();
+      out.ground = params_.ground ? Eigen::Vector4f(*params_.ground / params_.ground->head<3>().norm())
+                                  : impl_->ground.plane();
     return out;
   }
   auto voxels = pcl::make_shared<Cloud>();
@@ -447,9 +447,9 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
 
   // ---- ground ----
   Eigen::Vector4f ground;
-  if (params_.fixed_ground)
+  if (params_.ground)
   {
-    ground = params_.ground / params_.ground.head<3>().norm();
+    ground = *params_.ground / params_.ground->head<3>().norm();
     if (ground.head<3>().dot(origin) + ground[3] < 0.0f)
       ground = -ground;
   }

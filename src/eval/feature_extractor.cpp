@@ -1,6 +1,7 @@
 #include <action_flow/feature_extractor.h>
 
 #include <action_flow/person_pipeline.h>
+#include <action_flow/track_table.h>
 
 #include <cmath>
 #include <map>
@@ -15,16 +16,20 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
   for (const auto& v : variants)
     if (std::fabs(v.voxel_size - tracker_params.person_voxel_size) > 1e-6f)
       throw std::invalid_argument("extractSample: the flow's voxel size differs from the tracker's person clouds");
+    else if (v.flow.max_gap != variants.front().flow.max_gap)
+      throw std::invalid_argument("extractSample: the variants' flow/max_gap differ (their tracks end together)");
   if (variants.empty())
     return {};
   PeopleTracker tracker(tracker_params);
   // Per track id: one pipeline for all variants (they share the flow's matching), and how many
-  // frames the track was seen in.
+  // frames the track was seen in. Tracks end by the nodelets' rules (TrackTable); the ended ones
+  // are kept for choosing the sample's person, but for those a reset drops.
   struct Track
   {
     std::unique_ptr<PersonPipeline> pipeline;
     int seen = 0;
   };
+  TrackTable<Track> live(variants.front().flow.max_gap);
   std::map<std::uint32_t, Track> tracks;
   // all_tracks: every descriptor as it comes, per variant (a reset does not take them back).
   std::vector<std::vector<Eigen::VectorXf>> rows(variants.size());
@@ -35,13 +40,15 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
   while (source.next(cloud, stamp))
   {
     const TrackerResult result = tracker.update(cloud, stamp);
-    if (result.reset)
+    auto frame = live.begin(stamp, result.reset, result.lost);
+    if (frame.cleared)
       tracks.clear();
+    else
+      for (auto& ended : frame.ended)
+        tracks[ended.first] = std::move(ended.second);
     for (const auto& person : result.people)
     {
-      Track& t = tracks[person.id];
-      if (!t.pipeline)
-        t.pipeline = std::make_unique<PersonPipeline>(variants);
+      Track& t = live.at(person.id, [&] { return Track{ std::make_unique<PersonPipeline>(variants), 0 }; });
       ++t.seen;
       t.pipeline->add(*person.cloud, stamp, person.frame);
       for (std::size_t v = 0; all_tracks && v < variants.size(); ++v)
@@ -53,6 +60,9 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
         }
     }
   }
+
+  for (auto& ended : live.endAll())
+    tracks[ended.first] = std::move(ended.second);
 
   std::vector<SampleFrames> out(variants.size());
   if (all_tracks)

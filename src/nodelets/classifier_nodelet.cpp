@@ -8,6 +8,7 @@
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
 #include <action_flow/recognition_policy.h>
+#include <action_flow/track_table.h>
 
 #include <pluginlib/class_list_macros.hpp>
 #include <visualization_msgs/MarkerArray.h>
@@ -44,6 +45,14 @@ class ClassifierNodelet : public LazyNodelet
     pnh.param("arrow_scale", arrow_scale_, arrow_scale_);
     pnh.param("max_arrows", max_arrows_, max_arrows_);
     diag_.start(getNodeHandle(), pnh, getName(), "classifier");
+    try
+    {
+      tracks_ = TrackTable<Seen>(readRecognitionParams(pnh).flow.max_gap);
+    }
+    catch (const std::exception&)
+    {
+      // loadModel reports bad recognition parameters
+    }
     loadModel(pnh);
     if (policy_)
       diag_.set("model", "loaded: " + pnh.param<std::string>("model", ""));
@@ -101,18 +110,24 @@ class ClassifierNodelet : public LazyNodelet
     header_ = in->header;
     if (!policy_)
       NODELET_ERROR_THROTTLE(10, "not classifying: %s", model_error_.c_str());
-    else if (in->reset || stamp < last_stamp_)
+    // Tracks end by the same rules as the flow's (TrackTable): reset, time going back, lost, unseen.
+    const auto frame = tracks_.begin(stamp, in->reset, in->lost);
+    if (policy_ && frame.cleared)
     {
-      NODELET_WARN_THROTTLE(5, "time went backwards: dropping %zu open sequences", policy_->tracks());
+      NODELET_WARN_THROTTLE(5, "%s: dropping %zu open sequences", in->reset ? "reset" : "time went backwards",
+                            policy_->tracks());
       policy_->clear();
     }
-    last_stamp_ = stamp;
+    for (const auto& ended : frame.ended)
+      if (policy_ && !frame.cleared)
+        publish(endTrack(ended.first));
 
     auto states = boost::make_shared<ActionStates>();
     states->header = in->header;
     states->source = in;
     for (const auto& d : in->descriptors)
     {
+      tracks_.at(d.track_id, [] { return Seen(); });
       if (policy_ && d.status == PeopleFlow::kReset)
         policy_->restart(d.track_id);
       if (policy_ && d.status == PeopleFlow::kFlow && !d.values.empty())
@@ -133,9 +148,6 @@ class ClassifierNodelet : public LazyNodelet
       state.label = policy_ ? policy_->current(d.track_id) : std::string();
       states->tracks.push_back(state);
     }
-    if (policy_)
-      for (std::uint32_t id : in->lost)
-        publish(endTrack(id));
     if (states_pub_.getNumSubscribers() > 0)
       states_pub_.publish(states);
     if (markers_pub_.getNumSubscribers() > 0)
@@ -191,6 +203,7 @@ class ClassifierNodelet : public LazyNodelet
     NODELET_INFO("no input for %.1f s: end of input, classifying %zu open sequences", end_of_input_timeout_,
                  policy_->tracks());
     publish(policy_->endAll());
+    tracks_.endAll();
   }
 
   bool onClassify(Classify::Request&, Classify::Response& res)
@@ -281,7 +294,10 @@ class ClassifierNodelet : public LazyNodelet
 
   std::mutex mutex_;
   std_msgs::Header header_;
-  double last_stamp_ = -1.0;
+  struct Seen
+  {
+  };
+  TrackTable<Seen> tracks_{ FlowParams().max_gap };
   ros::WallTime last_input_;
   ros::Publisher labels_pub_, states_pub_, markers_pub_;
   StageDiagnostics diag_;

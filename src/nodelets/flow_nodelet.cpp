@@ -4,25 +4,21 @@
 #include <action_flow/ros/stage_diagnostics.h>
 #include <action_flow/ros/params.h>
 #include <action_flow/ros/stage_types.h>
+#include <action_flow/track_table.h>
 
 #include <pluginlib/class_list_macros.hpp>
 
-#include <map>
+#include <memory>
 
 namespace action_flow
 {
 /**
  * Subscribes `person_clouds` (PeopleClouds), publishes `flow` (PeopleFlow). Parameters (private):
- * the flow/ part of the recognition parameters, `max_gap` (s, frames further apart restart a track).
+ * the flow/ part of the recognition parameters (flow/max_gap: frames further apart restart a track).
+ * Per-track state and its lost, reset and time rules: TrackTable.
  */
 class FlowNodelet : public LazyNodelet
 {
-  struct Track
-  {
-    std::unique_ptr<FlowTrack> flow;
-    double last_seen = 0.0;
-  };
-
   void onInit() override
   {
     ros::NodeHandle& pnh = getPrivateNodeHandle();
@@ -36,7 +32,7 @@ class FlowNodelet : public LazyNodelet
       NODELET_ERROR("bad flow parameters (%s): using the defaults", e.what());
       params_ = FlowParams();
     }
-    pnh.param("max_gap", max_gap_, max_gap_);
+    tracks_ = TrackTable<std::unique_ptr<FlowTrack>>(params_.max_gap);
     diag_.start(getNodeHandle(), pnh, getName(), "flow");
     setSubscribe([this] { return getNodeHandle().subscribe("person_clouds", 10, &FlowNodelet::onClouds, this); });
     pub_ = advertiseLazy<PeopleFlow>("flow", 10);
@@ -45,26 +41,15 @@ class FlowNodelet : public LazyNodelet
   void onClouds(const PeopleClouds::ConstPtr& in)
   {
     diag_.received();
-    const double stamp = in->header.stamp.toSec();
     auto out = boost::make_shared<PeopleFlow>();
     out->header = in->header;
     out->lost = in->lost;
     out->source = in;
-    out->reset = in->reset;
-    if (in->reset || stamp < last_stamp_)
-    {
-      if (!in->reset)
-        NODELET_WARN_THROTTLE(5, "time went backwards (%.3f s after %.3f s): dropping the flow state of %zu tracks",
-                              stamp, last_stamp_, tracks_.size());
-      tracks_.clear();
-      out->reset = true;
-    }
-    last_stamp_ = stamp;
-    for (std::uint32_t id : in->lost)
-      tracks_.erase(id);
-    // A track the tracker never reported lost (e.g. its output was dropped) must not live forever.
-    for (auto it = tracks_.begin(); it != tracks_.end();)
-      it = stamp - it->second.last_seen > 10.0 * max_gap_ ? tracks_.erase(it) : std::next(it);
+    const auto frame = tracks_.begin(in->header.stamp.toSec(), in->reset, in->lost);
+    if (frame.time_went_back && !in->reset)
+      NODELET_WARN_THROTTLE(5, "time went backwards (%.3f s after %.3f s): dropping the flow state of %zu tracks",
+                            in->header.stamp.toSec(), frame.previous_stamp, frame.ended.size());
+    out->reset = frame.cleared;
 
     for (const auto& person : in->people)
     {
@@ -76,13 +61,10 @@ class FlowNodelet : public LazyNodelet
         continue;
       }
       p.cloud = person.cloud;
-      Track& track = tracks_[person.info.id];
-      if (!track.flow)
-        track.flow = std::make_unique<FlowTrack>(params_, max_gap_);
-      track.last_seen = stamp;
+      FlowTrack& track = *tracks_.at(person.info.id, [&] { return std::make_unique<FlowTrack>(params_); });
       try
       {
-        FlowTrack::Step step = track.flow->add(*person.cloud, stamp);
+        FlowTrack::Step step = track.add(*person.cloud, in->header.stamp.toSec());
         p.status = step.status == FlowTrack::Status::Flow    ? PeopleFlow::kFlow
                    : step.status == FlowTrack::Status::Reset ? PeopleFlow::kReset
                                                              : PeopleFlow::kFirst;
@@ -93,7 +75,7 @@ class FlowNodelet : public LazyNodelet
       catch (const std::exception& e)
       {
         NODELET_ERROR_THROTTLE(5, "flow of track %u failed (%s): restarting the track", person.info.id, e.what());
-        track.flow->reset();
+        track.reset();
         p.status = PeopleFlow::kReset;
       }
       out->people.push_back(std::move(p));
@@ -103,9 +85,7 @@ class FlowNodelet : public LazyNodelet
   }
 
   FlowParams params_;
-  double max_gap_ = 1.0;
-  double last_stamp_ = -1.0;
-  std::map<std::uint32_t, Track> tracks_;
+  TrackTable<std::unique_ptr<FlowTrack>> tracks_{ FlowParams().max_gap };
   ros::Publisher pub_;
   StageDiagnostics diag_;
 };

@@ -1,5 +1,6 @@
 // bench: per-stage timings of the flow pipeline and the classifier, ours beside the paper-faithful
 // PCL-octree baseline on the same frames in the same run (see docs/bench.md).
+#include "cli.h"
 #include "../bench/moving_person.h"
 #include "../bench/octree_flow_baseline.h"
 #include "../bench/stage_stats.h"
@@ -64,82 +65,77 @@ struct Options
   std::string query_person = "p12";
 };
 
-[[noreturn]] void usage(const std::string& error)
+action_flow::tools::Options commandLine()
 {
-  std::fprintf(stderr, "bench: %s\n", error.c_str());
-  std::fprintf(stderr,
-               "usage: bench [--pairs N (>=1, default 200)] [--voxels 0.06,0.04,0.02,0.01] [--k 50]\n"
-               "             [--octree-resolution M (default: 8 x the voxel size)] [--training 540] [--queries 300]\n"
-               "             [--source synth|generated] [--cpu-time] [--no-baseline] [--no-classification] [--no-tracker]\n"
-               "             [--descriptors DIR [--query-person P]]  (classification on an evaluate cache folder's\n"
-               "             frame descriptors: P's samples are the queries, everyone else's the training set)\n");
-  std::exit(2);
+  action_flow::tools::Options o("usage: bench [options]\nTimes each stage against its baseline, side by side in one run "
+                                "(benchmarks/results.md).");
+  o.value("pairs", "N", "frame pairs timed per voxel size (>= 1, default 200)")
+      .value("voxels", "V[,V...]", "voxel sizes in metres, each in [0.002, 0.2] (default 0.06,0.04,0.02,0.01)")
+      .value("k", "K", "the flow's K (default 50)")
+      .value("octree-resolution", "M", "the octree baseline's resolution (default: 8 x the voxel size)")
+      .value("training", "N", "training sequences of the classification bench (>= 2, default 540)")
+      .value("queries", "N", "its queries (default 300)")
+      .value("source", "synth|generated", "the person clouds: the virtual Kinect (default) or the generated figure")
+      .flag("cpu-time", "time the thread's CPU time instead of wall time")
+      .flag("no-baseline", "skip the baselines")
+      .flag("no-classification", "skip the classification bench")
+      .flag("no-tracker", "skip the tracker bench")
+      .value("descriptors", "DIR", "classification on an evaluate cache folder's frame descriptors")
+      .value("query-person", "P", "with --descriptors: P's samples are the queries, everyone else's the training "
+                                  "set (default p12)");
+  return o;
 }
 
-double number(const std::string& flag, const char* text)
+[[noreturn]] void usage(const std::string& error)
 {
-  char* end = nullptr;
-  const double v = std::strtod(text, &end);
-  if (end == text || *end != '\0' || !std::isfinite(v))
-    usage("bad value '" + std::string(text) + "' for " + flag);
-  return v;
+  std::fprintf(stderr, "bench: %s (--help lists the options)\n", error.c_str());
+  std::exit(2);
 }
 
 Options parse(int argc, char** argv)
 {
+  const action_flow::tools::Options cl = commandLine();
   Options o;
-  for (int i = 1; i < argc; ++i)
+  try
   {
-    const std::string a = argv[i];
-    auto value = [&]() -> const char* {
-      if (i + 1 >= argc)
-        usage(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--pairs")
-      o.pairs = static_cast<int>(number(a, value()));
-    else if (a == "--k")
-      o.k = static_cast<int>(number(a, value()));
-    else if (a == "--octree-resolution")
-      o.octree_resolution = number(a, value());
-    else if (a == "--training")
-      o.training = static_cast<int>(number(a, value()));
-    else if (a == "--queries")
-      o.queries = static_cast<int>(number(a, value()));
-    else if (a == "--descriptors")
-      o.descriptors = value();
-    else if (a == "--query-person")
-      o.query_person = value();
-    else if (a == "--no-baseline")
-      o.baseline = false;
-    else if (a == "--no-classification")
-      o.classification = false;
-    else if (a == "--cpu-time")
+    const action_flow::tools::Args a(argc, argv, cl);
+    if (a.has("help"))
+      std::exit(cl.printHelp());
+    o.pairs = static_cast<int>(a.integer("pairs", o.pairs, 1, 1000000));
+    o.k = static_cast<int>(a.integer("k", o.k, 1, 1000));
+    o.octree_resolution = a.number("octree-resolution", o.octree_resolution);
+    o.training = static_cast<int>(a.integer("training", o.training, 2, 10000000));
+    o.queries = static_cast<int>(a.integer("queries", o.queries, 1, 10000000));
+    o.descriptors = a.get("descriptors");
+    o.query_person = a.get("query-person", o.query_person);
+    o.baseline = !a.has("no-baseline");
+    o.classification = !a.has("no-classification");
+    o.tracker = !a.has("no-tracker");
+    if (a.has("cpu-time"))
       o.clock = Clock::ThreadCpu;
-    else if (a == "--no-tracker")
-      o.tracker = false;
-    else if (a == "--source")
-      o.source = value();
-    else if (a == "--voxels")
+    o.source = a.get("source", o.source);
+    if (a.has("voxels"))
     {
       o.voxels.clear();
-      std::stringstream ss(value());
-      std::string item;
-      while (std::getline(ss, item, ','))
-        o.voxels.push_back(static_cast<float>(number(a, item.c_str())));
+      std::stringstream ss(a.get("voxels"));
+      for (std::string item; std::getline(ss, item, ',');)
+      {
+        char* end = nullptr;
+        const double v = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !(v >= 0.002 && v <= 0.2))
+          usage("--voxels: each voxel size must be a number in [0.002, 0.2] m, got '" + item + "'");
+        o.voxels.push_back(static_cast<float>(v));
+      }
     }
-    else if (a == "-h" || a == "--help")
-      usage("help");
-    else
-      usage("unknown argument '" + a + "'");
   }
-  if (o.pairs < 1 || o.k < 1 || o.training < 2 || o.queries < 1 || o.octree_resolution < 0 || o.voxels.empty())
-    usage("--pairs, --k, --queries must be >= 1, --training >= 2, --octree-resolution >= 0, --voxels not empty");
+  catch (const std::invalid_argument& e)  // UsageError and the numbers
+  {
+    usage(e.what());
+  }
+  if (o.octree_resolution < 0 || o.voxels.empty())
+    usage("--octree-resolution must be >= 0, --voxels not empty");
   if (o.source != "synth" && o.source != "generated")
     usage("--source must be synth or generated");
-  for (float v : o.voxels)
-    if (!(v >= 0.002f && v <= 0.2f))
-      usage("voxel sizes must be in [0.002, 0.2] m");
   return o;
 }
 

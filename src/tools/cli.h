@@ -5,13 +5,20 @@
 #include <action_flow/action_model.h>
 #include <action_flow/people_tracker.h>
 
+#include "param_files.h"
+
 #include <pcl/console/print.h>
+
+#include <boost/program_options.hpp>
 
 #include <cstdio>
 #include <functional>
+#include <iostream>
 #include <map>
+#include <memory>
 #include <new>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -82,28 +89,122 @@ inline void runWorkers(int jobs, const std::function<void()>& worker)
     t.join();
 }
 
+/**
+ * The options a tool takes, each declared once with its help (boost::program_options, Debian's
+ * libboost-program-options-dev): --help (-h) prints them all, grouped, and nothing else is
+ * accepted. Values are kept as text; Args' number() and integer() check them and name the option.
+ */
+class Options
+{
+public:
+  explicit Options(const std::string& synopsis) : synopsis_(synopsis)
+  {
+    group("options");
+    flag("help,h", "print this help and exit");
+  }
+  /** Starts a new section of --help. */
+  Options& group(const std::string& caption)
+  {
+    groups_.push_back(std::make_shared<boost::program_options::options_description>(caption, 100, 50));
+    return *this;
+  }
+  Options& value(const std::string& name, const std::string& arg, const std::string& help)
+  {
+    groups_.back()->add_options()(name.c_str(), boost::program_options::value<std::string>()->value_name(arg),
+                                  help.c_str());
+    valued_.insert(name);
+    return *this;
+  }
+  Options& flag(const std::string& name, const std::string& help)
+  {
+    groups_.back()->add_options()(name.c_str(), boost::program_options::bool_switch(), help.c_str());
+    flags_.insert(name);
+    return *this;
+  }
+  /** The synopsis and every option, as --help prints it. */
+  std::string help() const
+  {
+    std::ostringstream out;
+    out << synopsis_ << "\n";
+    for (const auto& g : groups_)
+      out << "\n" << *g;
+    return out.str();
+  }
+  boost::program_options::options_description all() const
+  {
+    boost::program_options::options_description d;
+    for (const auto& g : groups_)
+      d.add(*g);
+    return d;
+  }
+  bool isFlag(const std::string& name) const { return flags_.count(name) > 0 || name == "help"; }
+  bool isValued(const std::string& name) const { return valued_.count(name) > 0; }
+  /** Prints the help on stdout (for --help: exit 0) or, with @p error, on stderr (exit 2). */
+  int printHelp(bool error = false) const
+  {
+    (error ? std::cerr : std::cout) << help();
+    return error ? 2 : 0;
+  }
+
+private:
+  std::string synopsis_;
+  std::vector<std::shared_ptr<boost::program_options::options_description>> groups_;
+  std::set<std::string> flags_, valued_;
+};
+
 class Args
 {
 public:
-  /** @throws std::invalid_argument on an option not in @p known (names without "--"). */
-  Args(int argc, char** argv, const std::set<std::string>& flags, const std::set<std::string>& valued)
+  /** @throws UsageError on an option @p options does not declare, a missing value, an option given twice
+   *          or a stray argument (boost::program_options' message). */
+  Args(int argc, char** argv, const Options& options)
   {
+    namespace po = boost::program_options;
+    // "--name value" becomes "--name=value" for a valued option, so that a value starting with '-'
+    // (a negative number, a stray "--") is taken as the value, as the user meant, not as an option.
+    // A word that is neither an option nor an option's value is refused by name.
+    std::vector<std::string> tokens;
     for (int i = 1; i < argc; ++i)
     {
-      std::string a = argv[i];
-      if (a.rfind("--", 0) != 0)
-        throw UsageError("unexpected argument '" + a + "'");
-      a = a.substr(2);
-      if (flags.count(a))
-        values_[a] = "1";
-      else if (valued.count(a))
+      std::string t = argv[i];
+      if (t.empty() || t[0] != '-')
+        throw UsageError("unexpected argument '" + t + "'");
+      if (t.rfind("--", 0) == 0 && t.find('=') == std::string::npos && options.isValued(t.substr(2)) && i + 1 < argc)
       {
-        if (i + 1 >= argc)
-          throw UsageError("option --" + a + " needs a value");
-        values_[a] = argv[++i];
+        const std::string v = argv[++i];
+        if (!v.empty() && v[0] == '-')
+          tokens.push_back(t + "=" + v);
+        else
+        {
+          tokens.push_back(t);
+          tokens.push_back(v);
+        }
+        continue;
       }
-      else
-        throw UsageError("unknown option --" + a);
+      tokens.push_back(t);
+    }
+    po::variables_map vm;
+    try
+    {
+      po::store(po::command_line_parser(tokens)
+                    .options(options.all())
+                    .style(po::command_line_style::unix_style ^ po::command_line_style::allow_guessing)
+                    .run(),
+                vm);
+    }
+    catch (const po::error& e)
+    {
+      throw UsageError(e.what());
+    }
+    for (const auto& kv : vm)
+    {
+      if (options.isFlag(kv.first))
+      {
+        if (kv.second.as<bool>())
+          values_[kv.first] = "1";
+      }
+      else if (!kv.second.defaulted())
+        values_[kv.first] = kv.second.as<std::string>();
     }
   }
   bool has(const std::string& k) const { return values_.count(k) > 0; }
@@ -153,85 +254,108 @@ inline int jobsOption(const Args& a)
   return static_cast<int>(a.integer("jobs", 2, 1, 64));
 }
 
-/** Options naming the method's parameters. */
-inline const std::set<std::string>& methodOptions()
+/** An option whose value is one of an enum's names (param_table.h); @throws UsageError naming the option. */
+template <class E>
+E choiceOption(const Args& a, const std::string& name, E value)
 {
-  static const std::set<std::string> o = { "recognizer", "descriptor", "frames", "pca-variance", "neighbours", "k",
-                                            "classifier", "c", "temporal-levels" };
-  return o;
+  if (a.has(name))
+    try
+    {
+      parseParam(a.get(name), value);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      throw UsageError("option --" + name + ": " + e.what());
+    }
+  return value;
 }
 
-/** Flags naming the method's parameters. */
-inline const std::set<std::string>& methodFlags()
+/** The options naming the method's parameters. */
+inline void addMethodOptions(Options& o)
 {
-  static const std::set<std::string> o = { "pca", "no-outlier-rejection", "no-posture", "no-direction-histogram",
-                                           "single-level", "no-mirror", "mirror", "direction-histogram", "no-geometry",
-                                           "align-to-facing" };
-  return o;
+  o.group("method options (docs/parameters.md)")
+      .value("config", "FILE[,FILE...]",
+             "parameters from yaml files as the nodelets load them (e.g. config/recognition.yaml,"
+             "config/tracker.yaml); the options below override them")
+      .value("recognizer", "posture_flow|paper",
+             "posture_flow (default): posture and flow, temporal pyramid, linear classifier; paper: Munaro et "
+             "al.'s SUMFLOW/MEANFLOW, F frames, k-NN")
+      .value("classifier", "linear|nn", "posture_flow: logistic regression (default) or 1-NN")
+      .value("c", "C", "posture_flow: the linear classifier's C (default: chosen by cross-validation over the "
+                       "training people)")
+      .value("temporal-levels", "N", "posture_flow: pyramid levels, 1 = whole sequence only (default 3)")
+      .flag("no-posture", "posture_flow: without the cells' shares of the body (an ablation)")
+      .flag("no-direction-histogram", "posture_flow: the flow as signed sums, not direction bins")
+      .flag("direction-histogram", "posture_flow: the flow as direction bins (default: chosen by cross-validation)")
+      .flag("single-level", "posture_flow: cells at 4 parts per axis only")
+      .flag("no-geometry", "posture_flow: without the body-geometry block")
+      .flag("no-mirror", "posture_flow: no mirrored training copies (default: chosen by cross-validation)")
+      .flag("mirror", "posture_flow: always mirrored training copies")
+      .value("descriptor", "sumflow|meanflow", "paper: frame descriptor (default sumflow)")
+      .value("frames", "F", "paper: frames per sequence descriptor (default 30)")
+      .flag("pca", "paper: project frames on a PCA basis")
+      .value("pca-variance", "V", "paper: the variance the PCA basis keeps (default 0.99)")
+      .value("neighbours", "K", "k of the k-NN classifier (default 1)")
+      .value("k", "K", "flow: nearest neighbours in XYZ (default 50)")
+      .flag("no-outlier-rejection", "flow: skip the speed and isolation rules")
+      .flag("align-to-facing", "the tracker turns each person's grid to where they face "
+                               "(TrackerParams::align_to_facing; run the live tracker so too)");
 }
 
-/** Usage lines of the method's options. */
-inline const char* methodUsage()
+/** The parameters of the --config files (the declared defaults without it). */
+inline ToolParams configParams(const Args& a)
 {
-  return "  --recognizer posture_flow|paper posture_flow (default): posture and flow, temporal pyramid, linear\n"
-         "                                  classifier; paper: Munaro et al.'s SUMFLOW/MEANFLOW, F frames, k-NN\n"
-         "  posture_flow:\n"
-         "  --classifier linear|nn          logistic regression (default) or 1-NN\n"
-         "  --c C                           the linear classifier's C (default: chosen by cross-validation\n"
-         "                                  over the training people)\n"
-         "  --temporal-levels N             pyramid levels, 1 = whole sequence only (default 3)\n"
-         "  --no-posture, --no-direction-histogram, --single-level, --no-geometry, --no-mirror\n"
-         "                                  switch off one part (for ablations); mirrored training copies\n"
-         "                                  are otherwise used or not as the cross-validation chooses\n"
-         "  paper:\n"
-         "  --descriptor sumflow|meanflow   frame descriptor (default sumflow)\n"
-         "  --frames F                      frames per sequence descriptor (default 30)\n"
-         "  --pca [--pca-variance 0.99]     project frames on a PCA basis keeping that variance\n"
-         "  --neighbours K                  k of the k-NN classifier (default 1)\n"
-         "  both:\n"
-         "  --k K                           flow: nearest neighbours in XYZ (default 50)\n"
-         "  --no-outlier-rejection          skip the flow's speed and isolation rules\n"
-         "  --align-to-facing               the tracker turns each person's grid to where they face\n"
-         "                                  (TrackerParams::align_to_facing; run the live tracker so too)\n";
+  ToolParams p;
+  std::stringstream files(a.get("config"));
+  std::string file;
+  while (std::getline(files, file, ','))
+    if (!file.empty())
+      applyParamFile(file, p);
+  return p;
 }
 
-/** The tracker's parameters from the options: the defaults, but for --align-to-facing. */
+/** The tracker's parameters: --config's, and --align-to-facing. */
 inline TrackerParams trackerParams(const Args& a)
 {
-  TrackerParams t;
+  TrackerParams t = configParams(a).tracker;
   if (a.has("align-to-facing"))
     t.align_to_facing = true;
   return t;
 }
 
-/** The method's parameters from the options (defaults: the default recognizer, posture_flow). */
+/** The method's parameters: --config's (default: the default recognizer, posture_flow), and the options. */
 inline RecognitionParams methodParams(const Args& a)
 {
-  RecognitionParams p = defaultRecognitionParams();
-  p.recognizer = recognizerFromString(a.get("recognizer", toString(p.recognizer)));
-  p.pyramid.classifier = pyramidClassifierFromString(a.get("classifier", toString(p.pyramid.classifier)));
+  RecognitionParams p = configParams(a).recognition;
+  p.recognizer = choiceOption(a, "recognizer", p.recognizer);
+  p.pyramid.classifier = choiceOption(a, "classifier", p.pyramid.classifier);
   p.pyramid.c = a.number("c", p.pyramid.c);
   p.pyramid.temporal_levels = static_cast<int>(a.integer("temporal-levels", p.pyramid.temporal_levels, 1, 4));
-  p.pyramid.posture = !a.has("no-posture");
+  if (a.has("no-posture"))
+    p.pyramid.posture = false;
   if (a.has("no-direction-histogram"))
     p.pyramid.flow = FlowEncoding::Sums;
   if (a.has("direction-histogram"))
     p.pyramid.flow = FlowEncoding::Bins;
-  p.pyramid.coarse_to_fine = !a.has("single-level");
-  p.pyramid.geometry = !a.has("no-geometry");
+  if (a.has("single-level"))
+    p.pyramid.coarse_to_fine = false;
+  if (a.has("no-geometry"))
+    p.pyramid.geometry = false;
   if (a.has("no-mirror"))
     p.pyramid.mirror = MirrorMode::Off;
   if (a.has("mirror"))
     p.pyramid.mirror = MirrorMode::On;
   if (!(p.pyramid.c >= 0.0 && p.pyramid.c <= 1e6))
     throw UsageError("option --c must be in 0..1e6 (0: chosen by cross-validation)");
-  p.grid.aggregation = aggregationFromString(a.get("descriptor", "sumflow"));
+  p.grid.aggregation = choiceOption(a, "descriptor", p.grid.aggregation);
   p.frames = static_cast<int>(a.integer("frames", p.frames, 1, 1000));
-  p.use_pca = a.has("pca");
+  if (a.has("pca"))
+    p.use_pca = true;
   p.pca_variance = a.number("pca-variance", p.pca_variance);
   p.neighbours = static_cast<int>(a.integer("neighbours", p.neighbours, 1, 1000));
   p.flow.k = static_cast<int>(a.integer("k", p.flow.k, 1, 1000));
-  p.flow.reject_outliers = !a.has("no-outlier-rejection");
+  if (a.has("no-outlier-rejection"))
+    p.flow.reject_outliers = false;
   if (!(p.pca_variance > 0 && p.pca_variance <= 1))
     throw UsageError("option --pca-variance must be in (0,1]");
   return p;

@@ -316,20 +316,14 @@ json writeExamples(const std::vector<SceneOutcome>& scenes, const std::string& d
 }
 }  // namespace
 
-const std::vector<std::string>& detectionOptions()
+void addDetectionOptions(Options& o)
 {
-  static const std::vector<std::string> o = { "scenes", "gate", "remove-walls", "max-head-ratio", "min-free-fraction" };
-  return o;
-}
-
-const char* detectionUsage()
-{
-  return "detection protocol (--protocol detection: the people tracker, default parameters, on cluttered rooms):\n"
-         "  --scenes N                      scenes of each kind (default 10; synth --dataset clutter)\n"
-         "  --gate M                        a detection within M metres of a person on the floor finds them (0.5)\n"
-         "  --remove-walls 0|1, --max-head-ratio R, --min-free-fraction F\n"
-         "                                  change one person-likeness cue from its default (to measure it)\n"
-         "  --seed N, --jobs N, --no-plots  as above\n";
+  o.group("detection protocol (--protocol detection: the people tracker, default parameters, on cluttered rooms)")
+      .value("scenes", "N", "scenes of each kind (default 10; synth --dataset clutter)")
+      .value("gate", "M", "a detection within M metres of a person on the floor finds them (default 0.5)")
+      .value("remove-walls", "0|1", "change this person-likeness cue from its default (to measure it)")
+      .value("max-head-ratio", "R", "likewise")
+      .value("min-free-fraction", "F", "likewise");
 }
 
 int runDetectionProtocol(const Args& args, const std::string& dir)

@@ -47,10 +47,8 @@ SceneOutcome runDetectionScene(const synth::SampleSpec& spec, const TrackerParam
  */
 int runDetectionProtocol(const class Args& args, const std::string& dir);
 
-/** Usage text of the detection protocol's options. */
-const char* detectionUsage();
-/** Its valued options. */
-const std::vector<std::string>& detectionOptions();
+/** Adds the detection protocol's options. */
+void addDetectionOptions(class Options& o);
 
 }  // namespace tools
 }  // namespace action_flow

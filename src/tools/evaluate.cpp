@@ -27,29 +27,37 @@ using json = nlohmann::json;
 
 namespace
 {
-const char* kUsage =
-    "usage: evaluate --output DIR (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
-    "  --protocol lopo|cross-subject|cross-view|online|detection\n"
-    "                                  leave-one-person-out (default), train on --train-persons, train on people\n"
-    "                                  facing the camera and test others seen from the side and behind, or labels\n"
-    "                                  on continuous streams of new people (see below)\n"
-    "  --views a,b,...                 cross-view: the test views, degrees from frontal (default 45,90,135,180)\n"
-    "  --test-repetitions R            cross-view: repetitions of each test person's actions (default 1)\n"
-    "  --train-spread DEG              cross-view: the training people face the camera +- DEG (default 15;\n"
-    "                                  180 = seen from every side)\n"
-    "  --train-persons a,b,...         cross-subject training people (default s01,s03,s05,s07,s09)\n"
-    "  --actions a,b,...               evaluate on these actions only (e.g. an MSR subset)\n"
-    "  --variants v1,v2,...            of posture_flow, posture_flow_no_posture, posture_flow_no_geometry, posture_flow_sums,\n"
-    "                                  posture_flow_bins, posture_flow_single_level, posture_flow_no_pyramid,\n"
-    "                                  posture_flow_nn, posture_flow_no_mirror, posture_flow_mirror,\n"
-    "                                  meanflow, sumflow_raw, sumflow, sumflow_pca,\n"
-    "                                  joints (MSR Action3D only) (default: all)\n"
-    "  --frames F                      the paper's frames per sequence (default 30)\n"
-    "  --sweep N                       the paper's accuracy for 1..N frames, with and without PCA (default 40,\n"
-    "                                  cross-view 0; 0 = none)\n"
-    "  --jobs N, --cache DIR           as for train\n"
-    "  --no-plots                      write no pictures\n"
-    "  --allow-empty                   as for train\n";
+Options options()
+{
+  Options o("usage: evaluate --output DIR (--index INDEX.csv | --synth ias|msr [sample options]) [options]");
+  o.value("output", "DIR", "where the report, confusion matrices and pictures go")
+      .value("protocol", "lopo|cross-subject|cross-view|online|detection",
+             "leave-one-person-out (default), train on --train-persons, train on people facing the camera and "
+             "test others seen from the side and behind, labels on continuous streams of new people, or the "
+             "people tracker alone (see below)")
+      .value("views", "a,b,...", "cross-view: the test views, degrees from frontal (default 45,90,135,180)")
+      .value("test-repetitions", "R", "cross-view: repetitions of each test person's actions (default 1)")
+      .value("train-spread", "DEG", "cross-view: the training people face the camera +- DEG (default 15; 180 = seen "
+                                    "from every side)")
+      .value("train-persons", "a,b,...", "cross-subject and online msr: the training people (default "
+                                         "s01,s03,s05,s07,s09); the others are tested")
+      .value("variants", "v1,v2,...",
+             "of posture_flow, posture_flow_no_posture, posture_flow_no_geometry, posture_flow_sums, "
+             "posture_flow_bins, posture_flow_single_level, posture_flow_no_pyramid, posture_flow_nn, "
+             "posture_flow_no_mirror, posture_flow_mirror, meanflow, sumflow_raw, sumflow, sumflow_pca, joints (MSR "
+             "Action3D only) (default: all; online: posture_flow and/or sumflow)")
+      .value("sweep", "N", "the paper's accuracy for 1..N frames, with and without PCA (default 40, cross-view 0; "
+                           "0 = none)")
+      .value("jobs", "N", "samples processed in parallel (default 2)")
+      .value("cache", "DIR", "frame descriptor cache (default ~/.ros/action_flow/cache)")
+      .flag("no-plots", "write no pictures")
+      .flag("allow-empty", "keep samples in which nobody was tracked (as still frames) instead of refusing them");
+  addSampleOptions(o);
+  addOnlineOptions(o);
+  addDetectionOptions(o);
+  addMethodOptions(o);
+  return o;
+}
 
 struct Variant
 {
@@ -293,24 +301,10 @@ json crossViewTable(const CrossViewSet& set, const json& results)
 int main(int argc, char** argv)
 {
   return runTool("evaluate", [&]() -> int {
-    std::set<std::string> valued = { "output", "index", "jobs", "cache", "protocol", "train-persons", "variants",
-                                     "sweep", "views", "test-repetitions", "train-spread" };
-    valued.insert(methodOptions().begin(), methodOptions().end());
-    valued.insert(onlineOptions().begin(), onlineOptions().end());
-    valued.insert(detectionOptions().begin(), detectionOptions().end());
-    addSampleOptions(valued);
-    std::set<std::string> flags = methodFlags();
-    flags.insert({ "help", "no-plots", "allow-empty" });
-    const Args args(argc, argv, flags, valued);
+    const Options o = options();
+    const Args args(argc, argv, o);
     if (args.has("help") || !args.has("output"))
-    {
-      std::fputs(kUsage, args.has("help") ? stdout : stderr);
-      std::fputs(sampleUsage(), args.has("help") ? stdout : stderr);
-      std::fputs(onlineUsage(), args.has("help") ? stdout : stderr);
-      std::fputs(detectionUsage(), args.has("help") ? stdout : stderr);
-      std::fputs(methodUsage(), args.has("help") ? stdout : stderr);
-      return args.has("help") ? 0 : 2;
-    }
+      return o.printHelp(!args.has("help"));
     if (args.get("protocol") == "detection")  // the people tracker alone, on scenes of its own
       return runDetectionProtocol(args, args.get("output"));
     const auto t0 = std::chrono::steady_clock::now();

@@ -34,16 +34,6 @@ crossing, facing any way), runs the people tracker with its default parameters o
 cloud, and scores it as the MOT benchmarks do: per frame, tracks are matched to the people who
 count (head seen, at least 0.12 m^2 of them with depth) by ground-plane distance within the gate.
 
-  --people LIST     people per scene, e.g. 3 or 2,3,4,5 (default 3)
-  --scenes S        scenes per people count (default 3), numbered 1..S
-  --seconds T       length of a scene (default 60)
-  --seed N          dataset seed (default 1)
-  --frames N        at most N frames per scene
-  --gate M          largest ground-plane distance of a match in metres (default 0.5)
-  --jobs N          scenes in parallel (default 2)
-  --out DIR         report.json, tracks/<scene>.csv and, unless --no-plot, tracks/<scene>.png
-                    (default tracking_results)
-  --no-plot         no pictures (scripts/plot_tracks.py)
 )";
 
 /** Counts how often two people who count swap their left-right order in the image (a crossing). */
@@ -253,13 +243,20 @@ void writeReport(const std::vector<SceneResult>& results, const std::string& out
 
 int run(int argc, char** argv)
 {
-  for (int i = 1; i < argc; ++i)
-    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h")
-    {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-  const tools::Args args(argc, argv, { "no-plot" }, { "people", "scenes", "seconds", "seed", "frames", "gate", "jobs", "out" });
+  tools::Options o(kUsage);
+  o.value("people", "LIST", "people per scene, e.g. 3 or 2,3,4,5 (default 3)")
+      .value("scenes", "S", "scenes per people count (default 3), numbered 1..S")
+      .value("seconds", "T", "length of a scene (default 60)")
+      .value("seed", "N", "dataset seed (default 1)")
+      .value("frames", "N", "at most N frames per scene")
+      .value("gate", "M", "largest ground-plane distance of a match in metres (default 0.5)")
+      .value("jobs", "N", "scenes in parallel (default 2)")
+      .value("out", "DIR", "report.json, tracks/<scene>.csv and, unless --no-plot, tracks/<scene>.png "
+                           "(default tracking_results)")
+      .flag("no-plot", "no pictures (scripts/plot_tracks.py)");
+  const tools::Args args(argc, argv, o);
+  if (args.has("help"))
+    return o.printHelp();
   const std::vector<int> people = peopleList(args.get("people", "3"));
   const int scenes = int(args.integer("scenes", 3, 1, 999));
   const double seconds = double(args.integer("seconds", 60, 2, 3600));

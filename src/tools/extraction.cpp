@@ -33,16 +33,6 @@ void makeDirs(const std::string& path)
       ::mkdir(path.substr(0, i).c_str(), 0755);
 }
 
-// A stable hash for cache names (std::hash may change between builds): 64-bit FNV-1a.
-std::string hex(const std::string& text)
-{
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : text)
-    h = (h ^ c) * 1099511628211ull;
-  char buf[17];
-  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(h));
-  return buf;
-}
 }  // namespace
 
 void refuseEmptySamples(const std::vector<SampleRef>& samples, const std::vector<SampleFrames>& frames,
@@ -77,26 +67,19 @@ std::vector<std::string> splitList(const std::string& s)
 
 std::string paramsFingerprint(const RecognitionParams& p, const TrackerParams& t)
 {
-  std::ostringstream s;
-  // Every parameter that shapes a frame descriptor: the recognizer's kind, flow, grid and tracker.
-  // The leading revision changes with the code of those stages (v3: a top at the image's edge no
-  // longer always rejects a person; v4: posture_flow's geometry block; v5: walls removed before
-  // clustering, a cut surface by its length at the image's edge, hidden people kept).
-  s << "v6 " << toString(p.recognizer) << " vox" << p.voxel_size << " k" << p.flow.k << " rc" << p.flow.reciprocal << " ro" << p.flow.reject_outliers
-    << " ms" << p.flow.min_speed << " is" << p.flow.isolation_speed << " nr" << p.flow.neighbour_radius << " g"
-    << p.grid.parts_x << p.grid.parts_y << p.grid.parts_z << " " << p.grid.width << " " << p.grid.height << " "
-    << p.grid.depth << " " << p.grid.reference_height << " " << toString(p.grid.aggregation) << " | t"
-    << t.detection_voxel_size << " " << t.person_voxel_size << " " << t.max_range << " " << t.min_height << " "
-    << t.max_height << " " << t.min_width << " " << t.max_width << " " << t.ground_tolerance << " "
-    << t.cluster_tolerance << " " << t.min_points << " " << t.fixed_ground << " " << t.ground.transpose() << " "
-    << t.hog_classifier_file << " " << t.gate << " " << t.lost_after << " " << t.confirm_after << " "
-    << t.sampling_factor << " " << t.up_hint.transpose() << " " << t.ground_max_angle << " " << t.ground_min_area << " "
-    << t.assume_ground_below_points << " " << t.min_head_distance << " " << t.hog_min_confidence << " "
-    << t.camera_height << " " << t.camera_pitch << " " << t.reject_top_at_border << " " << t.min_free_fraction << " "
-    << t.free_depth_step << " " << t.tracked_min_height << " " << t.tracked_max_width << " " << t.remove_walls << " "
-    << t.max_head_ratio << " " << t.hidden_lost_after << " " << t.align_to_facing << " " << t.facing_smoothing;
+  // Every parameter that shapes a frame descriptor (Shapes::Frames: the recognizer's kind, flow,
+  // grid; the whole tracker), by name. The leading revision changes with the code of those stages
+  // (v3: a top at the image's edge no longer always rejects a person; v4: posture_flow's geometry
+  // block; v5: walls removed before clustering, a cut surface by its length at the image's edge,
+  // hidden people kept; v7: parameters by name, flow/max_gap among them).
+  std::string key = "v7";
+  for (const ParamEntry& e : paramEntries(p))
+    if (e.shapes == Shapes::Frames)
+      key += " " + e.name + "=" + e.value;
+  for (const ParamEntry& e : paramEntries(t))
+    key += " " + e.name + "=" + e.value;
   const std::string kind = p.recognizer == Recognizer::Paper ? toString(p.grid.aggregation) : toString(p.recognizer);
-  return kind + (p.flow.reject_outliers ? "" : "_raw") + "_" + hex(s.str());
+  return kind + (p.flow.reject_outliers ? "" : "_raw") + "_" + stableHash(key);
 }
 
 std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& samples,
@@ -111,7 +94,7 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
   }
   std::vector<std::vector<SampleFrames>> out(variants.size(), std::vector<SampleFrames>(samples.size()));
   const auto cachePath = [&](std::size_t v, std::size_t s) {
-    return dirs[v] + "/" + samples[s].key + "_" + hex(samples[s].fingerprint) + ".frames";
+    return dirs[v] + "/" + samples[s].key + "_" + stableHash(samples[s].fingerprint) + ".frames";
   };
 
   std::atomic<std::size_t> next{ 0 }, done{ 0 }, cached{ 0 };

@@ -294,22 +294,14 @@ json policyJson(const PolicyParams& p)
            { "window", p.window },               { "idle_labels", p.idle_labels } };
 }
 
-const std::vector<std::string>& onlineOptions()
+void addOnlineOptions(Options& o)
 {
-  static const std::vector<std::string> o = { "stream-people", "streams", "stream-actions", "tuning-people" };
-  return o;
-}
-
-const char* onlineUsage()
-{
-  return "online protocol (--protocol online, with --synth ias or --synth msr for the training samples):\n"
-         "  --stream-people N               ias: new actors after the training people, one set of streams each (default 6)\n"
-         "  --streams N                     streams per new actor (ias) or per test subject (msr) (default 1)\n"
-         "  --stream-actions N              actions (msr: MSR sequences) per stream (default 8)\n"
-         "  --tuning-people N               training people whose streams choose the policy's thresholds, with a\n"
-         "                                  model trained on the other training people (default: a third)\n"
-         "  --train-persons a,b,...         msr: the training subjects (default s01,s03,s05,s07,s09); the others are tested\n"
-         "  --variants                      posture_flow and/or sumflow (default both)\n";
+  o.group("online protocol (--protocol online, with --synth ias or --synth msr for the training samples)")
+      .value("stream-people", "N", "ias: new actors after the training people, one set of streams each (default 6)")
+      .value("streams", "N", "streams per new actor (ias) or per test subject (msr) (default 1)")
+      .value("stream-actions", "N", "actions (msr: MSR sequences) per stream (default 8)")
+      .value("tuning-people", "N", "training people whose streams choose the policy's thresholds, with a model "
+                                   "trained on the other training people (default: a third)");
 }
 
 int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, const std::string& dir)

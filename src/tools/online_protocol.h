@@ -59,10 +59,8 @@ nlohmann::json policyJson(const PolicyParams& p);
  */
 int runOnlineProtocol(const class Args& args, const std::vector<SampleRef>& samples, const std::string& dir);
 
-/** Usage text of the online protocol's options. */
-const char* onlineUsage();
-/** Its valued options. */
-const std::vector<std::string>& onlineOptions();
+/** Adds the online protocol's options. */
+void addOnlineOptions(class Options& o);
 
 }  // namespace tools
 }  // namespace action_flow

@@ -26,19 +26,24 @@ using namespace action_flow;
 
 namespace
 {
-const char* kUsage = R"(usage: record --person ID --action NAME [options]
+const char* kSynopsis = R"(usage: record --person ID --action NAME [options]
 Records one sample from the driver (roslaunch action_flow record.launch does it for you) until
 Ctrl-C, --seconds or --idle-stop, then adds it to OUT/index.csv for `train --index OUT/index.csv`.
-  --person ID          who performs (index column person)
-  --action NAME        what they perform (index column action)
-  --out DIR            folder of the samples and their index.csv (default action_flow_recordings)
-  --repetition N       the sample's repetition (default: the next free one for this person and action)
-  --seconds S          stop after S seconds of frames (default 0: until Ctrl-C)
-  --idle-stop S        stop when no frame came for S seconds after the first (default 0: never)
-  --jpeg-quality Q     colour JPEG quality 1-100 (default 90)
 Topics (remap them): rgb/image_raw (rgb8), depth_registered/image_raw (16UC1 mm), rgb/camera_info.
-Exit codes: 0 recorded, 1 error (nothing recorded: no file is left), 2 usage, 130 interrupted before a frame.
-)";
+Exit codes: 0 recorded, 1 error (nothing recorded: no file is left), 2 usage, 130 interrupted before a frame.)";
+
+tools::Options options()
+{
+  tools::Options o(kSynopsis);
+  o.value("person", "ID", "who performs (index column person)")
+      .value("action", "NAME", "what they perform (index column action)")
+      .value("out", "DIR", "folder of the samples and their index.csv (default action_flow_recordings)")
+      .value("repetition", "N", "the sample's repetition (default: the next free one for this person and action)")
+      .value("seconds", "S", "stop after S seconds of frames (default 0: until Ctrl-C)")
+      .value("idle-stop", "S", "stop when no frame came for S seconds after the first (default 0: never)")
+      .value("jpeg-quality", "Q", "colour JPEG quality 1-100 (default 90)");
+  return o;
+}
 
 volatile std::sig_atomic_t g_stop = 0;
 void onSignal(int) { g_stop = 1; }
@@ -208,14 +213,10 @@ int main(int argc, char** argv)
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   return tools::runTool("record", [&] {
-    for (std::size_t i = 1; i < plain.size(); ++i)
-      if (!std::strcmp(plain[i], "-h") || !std::strcmp(plain[i], "--help"))
-      {
-        std::cout << kUsage;
-        return 0;
-      }
-    const tools::Args args(int(plain.size()), plain.data(), {},
-                           { "person", "action", "out", "repetition", "seconds", "idle-stop", "jpeg-quality" });
+    const tools::Options o = options();
+    const tools::Args args(int(plain.size()), plain.data(), o);
+    if (args.has("help"))
+      return o.printHelp();
     return record(args);
   });
 }

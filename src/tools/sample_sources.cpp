@@ -276,29 +276,25 @@ namespace action_flow
 {
 namespace tools
 {
-void addSampleOptions(std::set<std::string>& valued)
+void addSampleOptions(Options& o)
 {
-  valued.insert({ "points-topic", "depth-topic", "rgb-topic", "info-topic", "synth", "people", "repetitions", "seed",
-                  "msr-dir", "max-frames", "actions", "persons", "facing", "facing-spread" });
-}
-
-const char* sampleUsage()
-{
-  return "sample options:\n"
-         "  --synth ias|msr                 render the samples in-process with the virtual Kinect (no bags)\n"
-         "  --people N, --repetitions R     ias: actors p01..pN, each action R times (default 12, 3)\n"
-         "  --msr-dir FOLDER                msr: the MSR Action3D skeleton files (aAA_sSS_eEE_skeleton.txt)\n"
-         "  --facing DEG, --facing-spread DEG\n"
-         "                                  ias: actors face DEG from the camera (0 towards it, 90 side on, 180 away),\n"
-         "                                  +- the spread (default 0 +- 30)\n"
-         "  --seed N                        dataset seed (default 1)\n"
-         "  --max-frames N                  render at most N frames of each sample (default 0: all)\n"
-         "  --index INDEX.csv               bags listed in a dataset index instead (see docs/synth.md)\n"
-         "  --points-topic, --depth-topic, --rgb-topic, --info-topic T\n"
-         "                                  the index's bags' topics (IAS-Lab layout by default)\n"
-         "  --actions a,b,...               only these actions\n"
-         "  --persons a,b,...               only these people (e.g. the training subjects alone, to develop a\n"
-         "                                  setting without a test subject: --protocol lopo --persons s01,s03,...)\n";
+  o.group("sample options")
+      .value("synth", "ias|msr", "render the samples in-process with the virtual Kinect (no bags)")
+      .value("people", "N", "ias: actors p01..pN (default 12)")
+      .value("repetitions", "R", "ias: each action R times (default 3)")
+      .value("msr-dir", "FOLDER", "msr: the MSR Action3D skeleton files (aAA_sSS_eEE_skeleton.txt)")
+      .value("facing", "DEG", "ias: actors face DEG from the camera (0 towards it, 90 side on, 180 away; default 0)")
+      .value("facing-spread", "DEG", "ias: +- this around --facing (default 30)")
+      .value("seed", "N", "dataset seed (default 1)")
+      .value("max-frames", "N", "render at most N frames of each sample (default 0: all)")
+      .value("index", "INDEX.csv", "bags listed in a dataset index instead (docs/synth.md)")
+      .value("points-topic", "T", "the index's bags' cloud topic (IAS-Lab layout by default)")
+      .value("depth-topic", "T", "their depth image topic")
+      .value("rgb-topic", "T", "their colour image topic")
+      .value("info-topic", "T", "their camera_info topic")
+      .value("actions", "a,b,...", "only these actions (e.g. an MSR subset)")
+      .value("persons", "a,b,...", "only these people (e.g. the training subjects alone, to develop a setting "
+                                   "without a test subject: --protocol lopo --persons s01,s03,...)");
 }
 
 std::vector<SampleRef> selectSamples(const Args& args)

@@ -49,8 +49,9 @@ namespace action_flow
 namespace tools
 {
 class Args;
-/** Adds the options that choose samples (--index, topic names, --synth ...) to @p valued. */
-void addSampleOptions(std::set<std::string>& valued);
+class Options;
+/** Adds the options that choose samples (--index, topic names, --synth ...). */
+void addSampleOptions(Options& o);
 /** The virtual Kinect's samples (--synth ias|msr, --people, --repetitions, --seed, --msr-dir, --max-frames). */
 std::vector<SampleRef> samplesFromSynth(const Args& args);
 /** A sample rendered by the virtual Kinect in-process (any dataset, streams included). */
@@ -70,8 +71,6 @@ struct CrossViewSet
   double train_spread = 15.0; // degrees either side of facing the camera, for the training people
 };
 CrossViewSet crossViewSamples(const Args& args);
-/** Usage lines of the sample options. */
-const char* sampleUsage();
 /** The samples the options name (--actions and --persons keep only those listed). @throws on a bad index or option, naming it. */
 std::vector<SampleRef> selectSamples(const Args& args);
 /** The cache folder the options name (default ~/.ros/action_flow/cache). */

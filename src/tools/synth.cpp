@@ -1,6 +1,7 @@
 // synth: renders the synthetic IAS-Lab-style dataset, its continuous streams of actions, the MSR
 // Action3D skeletons or streams of them as Kinect bags (one per sample, plus index.csv), or preview images. See
 // docs/synth.md.
+#include "cli.h"
 #include "synth_bag.h"
 
 #include <action_flow/synth/crowd.h>
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <set>
@@ -35,57 +37,65 @@ namespace
 std::atomic<bool> g_cancel{ false };
 void onSignal(int) { g_cancel = true; }
 
-const char* kUsage = R"(usage: synth [options]
+const char* kSynopsis = R"(usage: synth [options]
 Renders one bag per sample (in the layout of a Kinect recorded with the ROS OpenNI driver) into
-OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
+OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.)";
 
-  --dataset ias|stream|msr|msr_stream|crowd|clutter
-                         ias: synthetic actors, 15 IAS-Lab actions (default); stream:
-                         the same actors performing actions in a row (pNN_stream_R.bag with
-                         /ground_truth/action, and pNN_stream_R_segments.csv); msr: MSR Action3D
-                         skeletons; msr_stream: an MSR subject's sequences in a row (sNN_msr_stream_R.bag
-                         and sNN_msr_stream_R_segments.csv); crowd: several actors at once, entering,
-                         leaving, crossing, facing any way (crowdN_S.bag, crowdN_S_segments.csv with a
-                         person column, crowdN_S_people.csv: each person's position and visibility per
-                         frame); clutter: the actors in cluttered rooms (walls, chairs, tables, shelves,
-                         doors, cut by the image border) and rooms of furniture only, KIND_NN.bag, for
-                         people detection (docs/synth.md)
-  --skeletons DIR        msr, msr_stream: folder of aAA_sSS_eEE_skeleton3D.txt files (required)
-  --segments FILE        msr_stream: --skeletons is one continuous skeleton file in the MSR format and
-                         FILE its truth (CSV action,first_frame,last_frame in the file's 15 fps frames);
-                         the body is --person's (default s01); the bag is named after the file
-  --all-msr              msr: also sequences not in files_used_in_cvpr12_paper.txt
-  --people N             ias, stream: number of actors (default 12); crowd: people per scene, 2-5 (default 3)
-  --scenes S             crowd: number of scenes (default 2)
-  --seconds T            crowd: length of a scene in seconds (default 60)
-  --repetitions N        ias: repetitions of each action (default 3); clutter: scenes of each kind
-  --first-person K       stream: the actors are pK.. (default 1)
-  --streams S            stream, msr_stream: streams per actor or subject (default 2)
-  --stream-actions A     stream, msr_stream: actions (MSR sequences) per stream (default 8; sit_down +
-                         get_up count as two)
-  --seed N               dataset seed (default 1); same seed, byte-identical output
-  --person ID, --action NAME, --repetition N   render only matching samples
-  --every N              only every Nth selected sample (a spread-out subset, e.g. for timing)
-  --limit N              only the first N selected samples
-  --frames N             at most N frames per sample
-  --out DIR              output folder (default synth_data)
-  --jobs N               samples rendered in parallel (default 1)
-  --skip-existing        keep bags already complete from an earlier run
-  --points               also write the organized PointCloud2 (large: ~10 MB a frame)
-  --raw-images           sensor_msgs/Image topics instead of <topic>/compressed (JPEG colour, PNG depth)
-  --compression none|lz4|bz2   bag chunk compression (default lz4)
-  --jpeg-quality Q       colour JPEG quality 1-100 (default 80)
-  --points-topic T, --rgb-topic T, --depth-topic T, --info-topic T, --mask-topic T, --tf-topic T,
-  --action-topic T       topic names (the last: a stream's ground-truth action, /ground_truth/action)
-  --list                 print the selected samples and exit
-  --preview              write PNGs instead of bags: OUT/<sample>_fNNN_color.png and _depth.png
-  --preview-at F         preview frame as a fraction of the sample (default 0.5); may repeat
-  --montage FILE         with --preview: also one JPEG grid of all previews (colour above depth)
-  --fakenect             write fakenect dumps instead of bags: OUT/<dataset>/<sample>.fakenect/ (INDEX.txt,
-                         RGB and 11-bit depth frames; replay with kinect.launch backend:=freenect
-                         device_uri:=DIR); not indexed, about 1.5 MB a frame
-  --quiet                no progress bar
-)";
+action_flow::tools::Options options()
+{
+  action_flow::tools::Options o(kSynopsis);
+  o.value("dataset", "ias|stream|msr|msr_stream|crowd|clutter",
+          "ias: synthetic actors, 15 IAS-Lab actions (default); stream: the same actors performing actions in a row "
+          "(pNN_stream_R.bag with /ground_truth/action, and pNN_stream_R_segments.csv); msr: MSR Action3D skeletons; "
+          "msr_stream: an MSR subject's sequences in a row (sNN_msr_stream_R.bag and sNN_msr_stream_R_segments.csv); "
+          "crowd: several actors at once, entering, leaving, crossing, facing any way (crowdN_S.bag, "
+          "crowdN_S_segments.csv with a person column, crowdN_S_people.csv: each person's position and visibility "
+          "per frame); clutter: the actors in cluttered rooms (walls, chairs, tables, shelves, doors, cut by the image "
+          "border) and rooms of furniture only, KIND_NN.bag, for people detection (docs/synth.md)")
+      .value("skeletons", "DIR", "msr, msr_stream: folder of aAA_sSS_eEE_skeleton3D.txt files (required)")
+      .value("segments", "FILE", "msr_stream: --skeletons is one continuous skeleton file in the MSR format and FILE "
+                                 "its truth (CSV action,first_frame,last_frame in the file's 15 fps frames); the body "
+                                 "is --person's (default s01); the bag is named after the file")
+      .flag("all-msr", "msr: also sequences not in files_used_in_cvpr12_paper.txt")
+      .value("people", "N", "ias, stream: number of actors (default 12); crowd: people per scene, 2-5 (default 3)")
+      .value("scenes", "S", "crowd: number of scenes (default 2)")
+      .value("seconds", "T", "crowd: length of a scene in seconds (default 60)")
+      .value("repetitions", "N", "ias: repetitions of each action (default 3); clutter: scenes of each kind")
+      .value("first-person", "K", "stream: the actors are pK.. (default 1)")
+      .value("streams", "S", "stream, msr_stream: streams per actor or subject (default 2)")
+      .value("stream-actions", "A", "stream, msr_stream: actions (MSR sequences) per stream (default 8; sit_down + "
+                                    "get_up count as two)")
+      .value("seed", "N", "dataset seed (default 1); same seed, byte-identical output")
+      .value("person", "ID", "render only this person's samples")
+      .value("action", "NAME", "render only this action's samples")
+      .value("repetition", "N", "render only this repetition")
+      .value("every", "N", "only every Nth selected sample (a spread-out subset, e.g. for timing)")
+      .value("limit", "N", "only the first N selected samples")
+      .value("frames", "N", "at most N frames per sample")
+      .value("out", "DIR", "output folder (default synth_data)")
+      .value("jobs", "N", "samples rendered in parallel (default 1)")
+      .flag("skip-existing", "keep bags already complete from an earlier run")
+      .flag("points", "also write the organized PointCloud2 (large: ~10 MB a frame)")
+      .flag("raw-images", "sensor_msgs/Image topics instead of <topic>/compressed (JPEG colour, PNG depth)")
+      .value("compression", "none|lz4|bz2", "bag chunk compression (default lz4)")
+      .value("jpeg-quality", "Q", "colour JPEG quality 1-100 (default 80)")
+      .value("points-topic", "T", "topic of the cloud")
+      .value("rgb-topic", "T", "topic of the colour image")
+      .value("depth-topic", "T", "topic of the depth image")
+      .value("info-topic", "T", "topic of the camera_info")
+      .value("mask-topic", "T", "topic of the person mask")
+      .value("tf-topic", "T", "topic of the camera's TF")
+      .value("action-topic", "T", "topic of a stream's ground-truth action (default /ground_truth/action)")
+      .flag("list", "print the selected samples and exit")
+      .flag("preview", "write PNGs instead of bags: OUT/<sample>_fNNN_color.png and _depth.png")
+      .value("preview-at", "F[,F...]", "preview frames as fractions of the sample (default 0.5)")
+      .value("montage", "FILE", "with --preview: also one JPEG grid of all previews (colour above depth)")
+      .flag("fakenect", "write fakenect dumps instead of bags: OUT/<dataset>/<sample>.fakenect/ (INDEX.txt, RGB and "
+                        "11-bit depth frames; replay with kinect.launch backend:=freenect device_uri:=DIR); not indexed, "
+                        "about 1.5 MB a frame")
+      .flag("quiet", "no progress bar");
+  return o;
+}
 
 [[noreturn]] void fail(const std::string& msg)
 {
@@ -93,21 +103,6 @@ OUT/<dataset>/<sample>.bag plus OUT/<dataset>/index.csv, or preview images.
   std::exit(1);
 }
 
-int toInt(const std::string& opt, const std::string& v, int lo, int hi)
-{
-  try
-  {
-    size_t pos = 0;
-    const long x = std::stol(v, &pos);
-    if (pos != v.size() || x < lo || x > hi)
-      throw std::invalid_argument("range");
-    return int(x);
-  }
-  catch (const std::exception&)
-  {
-    fail(opt + " expects an integer in " + std::to_string(lo) + ".." + std::to_string(hi) + ", got '" + v + "'");
-  }
-}
 
 std::string fmtTime(double s)
 {
@@ -215,109 +210,81 @@ int main(int argc, char** argv)
   bool all_msr = false, skip_existing = false, list = false, preview = false, quiet = false, fakenect = false;
   std::vector<double> preview_at;
   BagOptions bag;
-  for (int i = 1; i < argc; ++i)
+  const action_flow::tools::Options o = options();
+  std::unique_ptr<action_flow::tools::Args> parsed;
+  try
   {
-    const std::string a = argv[i];
-    const auto value = [&]() -> std::string {
-      if (i + 1 >= argc)
-        fail(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "-h" || a == "--help")
+    parsed = std::make_unique<action_flow::tools::Args>(argc, argv, o);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "synth: " << e.what() << " (--help lists the options)" << std::endl;
+    return 2;
+  }
+  const action_flow::tools::Args& args = *parsed;
+  if (args.has("help"))
+    return o.printHelp();
+  try
+  {
+    dataset = args.get("dataset", dataset);
+    skeletons = args.get("skeletons");
+    segments = args.get("segments");
+    all_msr = args.has("all-msr");
+    people_given = args.has("people");
+    people = int(args.integer("people", people, 1, 99));
+    scenes = int(args.integer("scenes", scenes, 1, 999));
+    seconds = double(args.integer("seconds", 60, 2, 3600));
+    repetitions = int(args.integer("repetitions", repetitions, 1, 99));
+    first_person = int(args.integer("first-person", first_person, 1, 99));
+    streams = int(args.integer("streams", streams, 1, 99));
+    stream_actions = int(args.integer("stream-actions", stream_actions, 1, 99));
+    seed = std::uint64_t(args.integer("seed", 1, 0, 2147483647));
+    only_person = args.get("person");
+    only_action = args.get("action");
+    only_rep = int(args.integer("repetition", 0, 1, 99));
+    every = int(args.integer("every", every, 1, 1000000));
+    limit = int(args.integer("limit", limit, 1, 1000000));
+    max_frames = int(args.integer("frames", max_frames, 1, 1000000));
+    out = args.get("out", out);
+    jobs = int(args.integer("jobs", jobs, 1, 64));
+    skip_existing = args.has("skip-existing");
+    bag.points = args.has("points");
+    bag.raw_images = args.has("raw-images");
+    bag.compression = args.get("compression", bag.compression);
+    bag.jpeg_quality = int(args.integer("jpeg-quality", bag.jpeg_quality, 1, 100));
+    bag.points_topic = args.get("points-topic", bag.points_topic);
+    bag.rgb_topic = args.get("rgb-topic", bag.rgb_topic);
+    bag.depth_topic = args.get("depth-topic", bag.depth_topic);
+    bag.info_topic = args.get("info-topic", bag.info_topic);
+    bag.mask_topic = args.get("mask-topic", bag.mask_topic);
+    bag.tf_topic = args.get("tf-topic", bag.tf_topic);
+    bag.action_topic = args.get("action-topic", bag.action_topic);
+    list = args.has("list");
+    preview = args.has("preview");
+    std::stringstream at(args.get("preview-at"));
+    for (std::string v; std::getline(at, v, ',');)
     {
-      std::cout << kUsage;
-      return 0;
-    }
-    else if (a == "--dataset")
-      dataset = value();
-    else if (a == "--skeletons")
-      skeletons = value();
-    else if (a == "--segments")
-      segments = value();
-    else if (a == "--all-msr")
-      all_msr = true;
-    else if (a == "--people")
-      people = toInt(a, value(), 1, 99), people_given = true;
-    else if (a == "--scenes")
-      scenes = toInt(a, value(), 1, 999);
-    else if (a == "--seconds")
-      seconds = toInt(a, value(), 2, 3600);
-    else if (a == "--repetitions")
-      repetitions = toInt(a, value(), 1, 99);
-    else if (a == "--first-person")
-      first_person = toInt(a, value(), 1, 99);
-    else if (a == "--streams")
-      streams = toInt(a, value(), 1, 99);
-    else if (a == "--stream-actions")
-      stream_actions = toInt(a, value(), 1, 99);
-    else if (a == "--seed")
-      seed = std::uint64_t(toInt(a, value(), 0, 2147483647));
-    else if (a == "--person")
-      only_person = value();
-    else if (a == "--action")
-      only_action = value();
-    else if (a == "--repetition")
-      only_rep = toInt(a, value(), 1, 99);
-    else if (a == "--every")
-      every = toInt(a, value(), 1, 1000000);
-    else if (a == "--limit")
-      limit = toInt(a, value(), 1, 1000000);
-    else if (a == "--frames")
-      max_frames = toInt(a, value(), 1, 1000000);
-    else if (a == "--out")
-      out = value();
-    else if (a == "--jobs")
-      jobs = toInt(a, value(), 1, 64);
-    else if (a == "--skip-existing")
-      skip_existing = true;
-    else if (a == "--points")
-      bag.points = true;
-    else if (a == "--raw-images")
-      bag.raw_images = true;
-    else if (a == "--compression")
-      bag.compression = value();
-    else if (a == "--jpeg-quality")
-      bag.jpeg_quality = toInt(a, value(), 1, 100);
-    else if (a == "--points-topic")
-      bag.points_topic = value();
-    else if (a == "--rgb-topic")
-      bag.rgb_topic = value();
-    else if (a == "--depth-topic")
-      bag.depth_topic = value();
-    else if (a == "--info-topic")
-      bag.info_topic = value();
-    else if (a == "--mask-topic")
-      bag.mask_topic = value();
-    else if (a == "--tf-topic")
-      bag.tf_topic = value();
-    else if (a == "--action-topic")
-      bag.action_topic = value();
-    else if (a == "--list")
-      list = true;
-    else if (a == "--preview")
-      preview = true;
-    else if (a == "--preview-at")
-    {
-      const std::string v = value();
+      std::size_t used = 0;
+      double f = -1;
       try
       {
-        preview_at.push_back(std::stod(v));
+        f = std::stod(v, &used);
       }
       catch (const std::exception&)
       {
-        fail("--preview-at expects a number in [0,1], got '" + v + "'");
       }
-      if (preview_at.back() < 0 || preview_at.back() > 1)
-        fail("--preview-at expects a number in [0,1], got '" + v + "'");
+      if (used != v.size() || !(f >= 0 && f <= 1))
+        throw action_flow::tools::UsageError("--preview-at expects numbers in [0,1], got '" + v + "'");
+      preview_at.push_back(f);
     }
-    else if (a == "--fakenect")
-      fakenect = true;
-    else if (a == "--montage")
-      montage = value();
-    else if (a == "--quiet")
-      quiet = true;
-    else
-      fail("unknown option '" + a + "' (see synth --help)");
+    fakenect = args.has("fakenect");
+    montage = args.get("montage");
+    quiet = args.has("quiet");
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "synth: " << e.what() << std::endl;
+    return 2;
   }
   if (bag.compression != "none" && bag.compression != "lz4" && bag.compression != "bz2")
     fail("--compression must be none, lz4 or bz2, got '" + bag.compression + "'");

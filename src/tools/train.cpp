@@ -13,32 +13,33 @@ using namespace action_flow::tools;
 
 namespace
 {
-const char* kUsage =
-    "usage: train --output MODEL (--index INDEX.csv | --synth ias|msr [sample options]) [options]\n"
-    "  --allow-empty                   keep samples in which nobody was tracked (as still frames) instead of\n"
-    "                                  refusing them\n"
-    "  --exclude-person P              leave one person out of the training set\n"
-    "  --actions a,b,...               train on these actions only\n"
-    "  --jobs N                        samples processed in parallel (default 2)\n"
-    "  --cache DIR                     frame descriptor cache (default ~/.ros/action_flow/cache)\n";
+Options options()
+{
+  Options o("usage: train --output MODEL (--index INDEX.csv | --synth ias|msr [sample options]) [options]");
+  o.value("output", "MODEL", "the model file to write")
+      .flag("allow-empty", "keep samples in which nobody was tracked (as still frames) instead of refusing them")
+      .value("exclude-person", "P", "leave one person out of the training set")
+      .value("jobs", "N", "samples processed in parallel (default 2)")
+      .value("cache", "DIR", "frame descriptor cache (default ~/.ros/action_flow/cache)")
+      .flag("list-params", "print every parameter (name, type, default, doc) as markdown and exit");
+  addSampleOptions(o);
+  addMethodOptions(o);
+  return o;
+}
 }  // namespace
 
 int main(int argc, char** argv)
 {
   return runTool("train", [&]() -> int {
-    std::set<std::string> valued = { "output", "index", "jobs", "cache", "exclude-person" };
-    valued.insert(methodOptions().begin(), methodOptions().end());
-    addSampleOptions(valued);
-    std::set<std::string> flags = methodFlags();
-    flags.insert({ "help", "allow-empty" });
-    const Args args(argc, argv, flags, valued);
-    if (args.has("help") || !args.has("output"))
+    const Options o = options();
+    const Args args(argc, argv, o);
+    if (args.has("list-params"))
     {
-      std::fputs(kUsage, args.has("help") ? stdout : stderr);
-      std::fputs(sampleUsage(), args.has("help") ? stdout : stderr);
-      std::fputs(methodUsage(), args.has("help") ? stdout : stderr);
-      return args.has("help") ? 0 : 2;
+      std::fputs(paramsMarkdown().c_str(), stdout);
+      return 0;
     }
+    if (args.has("help") || !args.has("output"))
+      return o.printHelp(!args.has("help"));
     const RecognitionParams params = methodParams(args);
     const int jobs = jobsOption(args);
     const TrackerParams tracker = trackerParams(args);

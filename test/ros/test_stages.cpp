@@ -548,7 +548,7 @@ TEST(Classifier, MissingCorruptOrMismatchedModelIsReportedAndTheRestRuns)
   };
   const std::vector<Case> cases = { { "missing", "does not exist" },
                                     { "corrupt", "checksum mismatch" },
-                                    { "mismatch", "frames: model 30, runtime 20" } };
+                                    { "mismatch", "flow/k: model 50, runtime 30" } };
   std::vector<std::unique_ptr<Collector<ActionStates>>> states;
   for (const auto& c : cases)
     states.push_back(std::make_unique<Collector<ActionStates>>(nh, c.name + "/states"));

@@ -378,7 +378,6 @@ TEST(TrackerBadInput, BadParametersThrow)
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.min_points = 0; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.sampling_factor = 0; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) {
-                 p.fixed_ground = true;
                  p.ground = Eigen::Vector4f(0, 0, 0, 1);
                })),
                std::invalid_argument);

@@ -308,8 +308,7 @@ TEST(TrackerScenes, FixedGroundIsUsedAsGiven)
   SceneCamera cam(1.3f, 0.2f);
   const std::vector<Figure> people = {Figure{{0.0f, 3.0f}, 1.8f}};
   TrackerParams params;
-  params.fixed_ground = true;
-  params.ground = cam.floorInCamera() * 2.0f;  // not normalised: the tracker normalises it
+  params.ground = Eigen::Vector4f(cam.floorInCamera() * 2.0f);  // not normalised: the tracker normalises it
   params.confirm_after = 1;
   PeopleTracker tracker(params);
   const TrackerResult r = tracker.update(cam.render(people), 0.0);
@@ -320,7 +319,7 @@ TEST(TrackerScenes, FixedGroundIsUsedAsGiven)
 
   // A ground given 0.6 m too high is used as given: the figure comes out 0.6 m shorter.
   params.ground = cam.floorInCamera();
-  params.ground[3] -= 0.6f;
+  (*params.ground)[3] -= 0.6f;
   // HOG would judge a window sized from the wrong ground (0.6 m short) and reject it: off here,
   // this part is about the plane being used as given.
   params.hog_classifier_file.clear();

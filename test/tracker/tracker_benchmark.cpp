@@ -2,6 +2,7 @@
 // with what it found in each. Not a test: prints figures.
 //   tracker_benchmark [--runs N] [--hog FILE] [--data DIR] [--png DIR] [--probe U,V]... [--candidates]
 #include "real_data.h"
+#include "../../src/tools/cli.h"
 
 #include <action_flow/people_tracker.h>
 #include <action_flow/tracker_detector.h>
@@ -169,35 +170,35 @@ int main(int argc, char** argv)
   std::vector<std::pair<int, int>> probes;  // --probe U,V: print the point at that pixel
   TrackerParams params;
   params.confirm_after = 1;
-  for (int i = 1; i < argc; ++i)
+  tools::Options o("usage: tracker_benchmark [options]\nTimes the people tracker on the shared real RGB-D frames.");
+  o.value("runs", "N", "timed runs per frame (default 30)")
+      .value("hog", "FILE", "the HOG classifier file (default: none)")
+      .value("data", "DIR", "the shared data folder (default ../shared/data)")
+      .value("max-range", "M", "the tracker's max_range")
+      .value("min-height", "M", "the tracker's min_height")
+      .value("png", "DIR", "each frame's colour image with the people boxed")
+      .value("probe", "U,V", "print the point at that pixel")
+      .flag("candidates", "print the detector's candidates");
+  try
   {
-    const std::string a = argv[i];
-    if (a == "--runs" && i + 1 < argc)
-      runs = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--hog" && i + 1 < argc)
-      params.hog_classifier_file = argv[++i];
-    else if (a == "--data" && i + 1 < argc)
-      data = argv[++i];
-    else if (a == "--max-range" && i + 1 < argc)
-      params.max_range = std::atof(argv[++i]);
-    else if (a == "--min-height" && i + 1 < argc)
-      params.min_height = std::atof(argv[++i]);
-    else if (a == "--candidates")
-      show_candidates = true;
-    else if (a == "--png" && i + 1 < argc)
-      png_dir = argv[++i];
-    else if (a == "--probe" && i + 1 < argc)
-    {
-      int u = 0, v = 0;
-      if (std::sscanf(argv[++i], "%d,%d", &u, &v) == 2)
-        probes.emplace_back(u, v);
-    }
-    else
-    {
-      std::fprintf(stderr, "tracker_benchmark: unknown argument '%s' (use --runs N, --hog FILE, --data DIR, "
-                           "--max-range M, --min-height M, --png DIR, --probe U,V, --candidates)\n", a.c_str());
-      return 2;
-    }
+    const tools::Args args(argc, argv, o);
+    if (args.has("help"))
+      return o.printHelp();
+    runs = static_cast<int>(args.integer("runs", runs, 1, 100000));
+    params.hog_classifier_file = args.get("hog", params.hog_classifier_file);
+    data = args.get("data", data);
+    params.max_range = static_cast<float>(args.number("max-range", params.max_range));
+    params.min_height = static_cast<float>(args.number("min-height", params.min_height));
+    show_candidates = args.has("candidates");
+    png_dir = args.get("png");
+    int u = 0, v = 0;
+    if (args.has("probe") && std::sscanf(args.get("probe").c_str(), "%d,%d", &u, &v) == 2)
+      probes.emplace_back(u, v);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    std::fprintf(stderr, "tracker_benchmark: %s (--help lists the options)\n", e.what());
+    return 2;
   }
   const std::string dir = data + "/real_rgbd";
   const auto bags = test::listFiles(dir, "tue_hsr_person_", ".bag");

@@ -14,21 +14,20 @@
 namespace action_flow
 {
 /**
- * @brief Reads voxel_size, flow/{k,reciprocal,reject_outliers,min_speed,isolation_speed,
- *        neighbour_radius}, grid/{parts_x,parts_y,parts_z,width,height,depth,reference_height},
- *        descriptor (sumflow|meanflow), frames, use_pca, pca_variance, neighbours.
- * @throws std::invalid_argument on an unknown descriptor name
+ * @brief The recognition parameters (RecognitionParams::visit) set in @p nh's namespace, over
+ *        defaultRecognitionParams(): recognizer, voxel_size, flow/..., grid/..., descriptor, ...
+ *        (docs/parameters.md lists them all).
+ * @throws std::invalid_argument "<name>: <what was wrong>" on a value that does not parse
  */
 RecognitionParams readRecognitionParams(const ros::NodeHandle& nh);
 
 /**
- * @brief Reads the classifier's policy: mode (segmented|online) and the members of PolicyParams
- *        under the same names (idle_labels as a list of strings).
- * @throws std::invalid_argument on an unknown mode or a value out of range, naming it
+ * @brief The classifier's policy (PolicyParams::visit): mode (segmented|online) and the rest.
+ * @throws std::invalid_argument on a value that does not parse or is out of range, naming it
  */
 PolicyParams readPolicyParams(const ros::NodeHandle& nh);
 
-/** @brief Reads the tracker's parameters (same names as TrackerParams' members; ground as a 4-list). */
+/** @brief The tracker's parameters (TrackerParams::visit; ground as a 4-list, [] = estimated). */
 TrackerParams readTrackerParams(const ros::NodeHandle& nh);
 
 }  // namespace action_flow
