@@ -1,6 +1,5 @@
 # bench: per-stage timings against the paper's Table 2 and a PCL-octree baseline (docs/bench.md).
 add_library(action_flow_bench STATIC
-  src/bench/moving_person.cpp
   src/bench/octree_flow_baseline.cpp
   src/bench/training_set.cpp)
 target_link_libraries(action_flow_bench action_flow_core ${PCL_LIBRARIES})
@@ -11,11 +10,9 @@ target_link_libraries(bench action_flow_bench action_flow_core Boost::program_op
 install(TARGETS bench RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  # Exactness of the flow's grid index and matcher against nanoflann and brute force, and the
-  # benchmark's parts (statistics, generated person, octree baseline agreeing with the core).
-  catkin_add_gtest(test_bench
-    test/bench/test_neighbour_grid.cpp
-    test/bench/test_bench_parts.cpp)
+  # The benchmark's parts (statistics, the octree baseline agreeing with the core, the generated
+  # descriptor sequences).
+  catkin_add_gtest(test_bench test/bench/test_bench_parts.cpp)
   target_link_libraries(test_bench action_flow_bench action_flow_core gtest_main)
 endif()
 

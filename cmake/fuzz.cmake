@@ -20,7 +20,7 @@ if(CATKIN_ENABLE_TESTING)
 
   # The real manager: generated bad clouds to the people tracker, bad images and camera_info through
   # the image guard to depth_image_proc, then good frames, which must still be served.
-  add_executable(test_fuzz_manager EXCLUDE_FROM_ALL test/fuzz/test_fuzz_manager.cpp test/ros/test_scene.cpp)
+  add_executable(test_fuzz_manager EXCLUDE_FROM_ALL test/fuzz/test_fuzz_manager.cpp)
   target_link_libraries(test_fuzz_manager action_flow_fuzz action_flow_ros ${catkin_LIBRARIES} gtest)
   add_dependencies(test_fuzz_manager ${PROJECT_NAME}_generate_messages_cpp)
   add_dependencies(tests test_fuzz_manager)

@@ -42,7 +42,7 @@ target_link_libraries(action_flow_tracker_nodelet action_flow_ros action_flow_tr
 # Test aids (in the devel space's nodelets.xml so that rostests can load them by name; not
 # installed, and left out of the installed nodelets.xml, cmake/install.cmake): a scene /
 # person-cloud publisher and the zero-copy probe.
-add_library(action_flow_test_nodelets test/ros/test_scene.cpp test/ros/test_scene_publisher.cpp test/ros/zero_copy_probe.cpp)
+add_library(action_flow_test_nodelets test/ros/test_scene_publisher.cpp test/ros/zero_copy_probe.cpp)
 target_link_libraries(action_flow_test_nodelets action_flow_ros ${catkin_LIBRARIES})
 
 install(TARGETS action_flow_ros action_flow_nodelets action_flow_devices action_flow_driver action_flow_tracker_nodelet
@@ -82,7 +82,7 @@ if(CATKIN_ENABLE_TESTING)
 
   add_executable(test_load_all EXCLUDE_FROM_ALL test/ros/test_load_all.cpp)
   target_link_libraries(test_load_all ${catkin_LIBRARIES} gtest)
-  add_executable(test_stages EXCLUDE_FROM_ALL test/ros/test_stages.cpp test/ros/test_scene.cpp)
+  add_executable(test_stages EXCLUDE_FROM_ALL test/ros/test_stages.cpp)
   target_link_libraries(test_stages action_flow_ros ${catkin_LIBRARIES} gtest)
   add_executable(test_real_data EXCLUDE_FROM_ALL test/ros/test_real_data.cpp)
   target_link_libraries(test_real_data ${catkin_LIBRARIES} ${PCL_LIBRARIES} gtest)

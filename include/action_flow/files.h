@@ -17,9 +17,13 @@ namespace action_flow
 std::string whyNotARegularFile(const std::string& path);
 
 /**
- * @brief Writes @p text to @p path whole or not at all: to "<path>.tmp", then renamed into place,
- *        so an interrupted run never leaves a half-written file.
+ * @brief Writes @p text (any bytes) to @p path whole or not at all: to "<path>.tmp", then renamed
+ *        into place, so an interrupted run never leaves a half-written file. Every file the
+ *        package writes whole goes through it (models, caches, reports, indexes, benchmarks).
  * @throws std::runtime_error naming the file if it cannot be written or renamed
  */
 void writeTextAtomically(const std::string& path, const std::string& text);
+
+/** @brief @p s without leading and trailing spaces, tabs, carriage returns and newlines. */
+std::string trimmed(const std::string& s);
 }  // namespace action_flow

@@ -3,6 +3,7 @@
 // manager, each frame restamped with a fresh, increasing stamp, and measures what comes out of the
 // classifier: frames per second, the manager's CPU use, latency from a frame's stamp to its
 // per-frame `states` (and to `labels`), and the manager's resident memory over the run.
+#include <action_flow/files.h>
 #include <action_flow/ActionLabel.h>
 #include <action_flow/ros/stage_types.h>
 
@@ -73,20 +74,6 @@ std::string loadAverage()
   std::string a, b, c;
   in >> a >> b >> c;
   return a + " " + b + " " + c;
-}
-
-/** Writes @p text to @p path through a temporary name, so a reader never sees half a file. */
-void writeAtomically(const std::string& path, const std::string& text)
-{
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::trunc);
-    out << text;
-    if (!out.flush())
-      throw std::runtime_error("cannot write '" + tmp + "'");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error("cannot rename '" + tmp + "' to '" + path + "'");
 }
 
 nlohmann::json percentiles(const bench::StageSamples& s)
@@ -735,10 +722,10 @@ private:
 
     std::filesystem::create_directories(output_dir_);
     const std::string dir = output_dir_ + "/";
-    writeAtomically(dir + "frames.csv", frames_csv.str());
-    writeAtomically(dir + "labels.csv", labels_csv.str());
-    writeAtomically(dir + "samples.csv", samples_csv.str());
-    writeAtomically(dir + "summary.json", j.dump(2) + "\n");  // last: its presence means the rest is there
+    writeTextAtomically(dir + "frames.csv", frames_csv.str());
+    writeTextAtomically(dir + "labels.csv", labels_csv.str());
+    writeTextAtomically(dir + "samples.csv", samples_csv.str());
+    writeTextAtomically(dir + "summary.json", j.dump(2) + "\n");  // last: its presence means the rest is there
     NODELET_INFO("bench_player: %zu of %zu frames processed in %.1f s (%.1f fps, %.2f cores), latency median "
                  "%.1f ms p95 %.1f ms; results in %s",
                  processed, records_.size(), wall, wall > 0 ? processed / wall : 0.0, wall > 0 ? cpu / wall : 0.0,

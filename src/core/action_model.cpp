@@ -246,25 +246,20 @@ void ActionModel::save(const std::string& path) const
   w.putMatrix(linear.mean());
   w.putMatrix(linear.scale());
   const std::string& payload = w.bytes();
-  const std::string tmp = path + ".tmp";
+  std::string file(kMagic, sizeof(kMagic));
+  const std::uint32_t version = kFormatVersion, crc = crc32(payload);
+  const std::uint64_t size = payload.size();
+  file.append(reinterpret_cast<const char*>(&version), sizeof(version));
+  file.append(reinterpret_cast<const char*>(&size), sizeof(size));
+  file.append(reinterpret_cast<const char*>(&crc), sizeof(crc));
+  file += payload;
+  try
   {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f)
-      fail("cannot open '" + tmp + "' for writing");
-    f.write(kMagic, sizeof(kMagic));
-    const std::uint32_t version = kFormatVersion, crc = crc32(payload);
-    const std::uint64_t size = payload.size();
-    f.write(reinterpret_cast<const char*>(&version), sizeof(version));
-    f.write(reinterpret_cast<const char*>(&size), sizeof(size));
-    f.write(reinterpret_cast<const char*>(&crc), sizeof(crc));
-    f.write(payload.data(), static_cast<std::streamsize>(payload.size()));
-    if (!f.flush())
-      fail("write failed (disk full?)");
+    writeTextAtomically(path, file);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  catch (const std::runtime_error& e)
   {
-    std::remove(tmp.c_str());
-    fail("cannot rename the temporary file into place");
+    throw ModelError(std::string("model file '") + path + "': " + e.what());
   }
 }
 

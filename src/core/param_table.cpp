@@ -1,5 +1,7 @@
 #include <action_flow/param_table.h>
 
+#include <action_flow/files.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -10,27 +12,19 @@ namespace action_flow
 {
 namespace
 {
-std::string trim(const std::string& s)
-{
-  const auto b = s.find_first_not_of(" \t\n");
-  if (b == std::string::npos)
-    return "";
-  return s.substr(b, s.find_last_not_of(" \t\n") - b + 1);
-}
-
 // "[a, b, c]" (or a bare "a, b") into its items; "[]" into none.
 std::vector<std::string> listItems(const std::string& text)
 {
-  std::string t = trim(text);
+  std::string t = trimmed(text);
   if (t.size() >= 2 && t.front() == '[' && t.back() == ']')
     t = t.substr(1, t.size() - 2);
   std::vector<std::string> out;
-  if (trim(t).empty())
+  if (trimmed(t).empty())
     return out;
   std::stringstream ss(t);
   std::string item;
   while (std::getline(ss, item, ','))
-    out.push_back(trim(item));
+    out.push_back(trimmed(item));
   return out;
 }
 
@@ -45,7 +39,7 @@ std::string joinList(const T& items, int n)
 
 double parseNumber(const std::string& text)
 {
-  const std::string t = trim(text);
+  const std::string t = trimmed(text);
   std::size_t used = 0;
   double v = 0;
   try
@@ -136,7 +130,7 @@ void parseParam(const std::string& text, double& v)
 }
 void parseParam(const std::string& text, bool& v)
 {
-  const std::string t = trim(text);
+  const std::string t = trimmed(text);
   if (t == "true" || t == "True" || t == "1")
     v = true;
   else if (t == "false" || t == "False" || t == "0")
@@ -169,7 +163,7 @@ int parseChoice(const std::string& text, const std::vector<std::string>& names)
   std::string expected;
   for (std::size_t i = 0; i < names.size(); ++i)
   {
-    if (trim(text) == names[i])
+    if (trimmed(text) == names[i])
       return static_cast<int>(i);
     expected += (i ? (i + 1 == names.size() ? " or " : ", ") : "") + names[i];
   }

@@ -19,21 +19,13 @@ namespace action_flow
 {
 namespace
 {
-std::string trim(const std::string& s)
-{
-  const auto b = s.find_first_not_of(" \t\r");
-  if (b == std::string::npos)
-    return "";
-  return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
-}
-
 std::vector<std::string> splitCsv(const std::string& line)
 {
   std::vector<std::string> out;
   std::stringstream ss(line);
   std::string field;
   while (std::getline(ss, field, ','))
-    out.push_back(trim(field));
+    out.push_back(trimmed(field));
   if (!line.empty() && line.back() == ',')
     out.push_back("");
   return out;
@@ -75,7 +67,7 @@ std::vector<IndexEntry> readIndex(const std::string& path, const std::vector<std
   while (header.empty() && std::getline(f, line))
   {
     ++n;
-    if (!trim(line).empty() && trim(line)[0] != '#')
+    if (!trimmed(line).empty() && trimmed(line)[0] != '#')
       header = splitCsv(line);
   }
   if (header.empty())
@@ -96,7 +88,7 @@ std::vector<IndexEntry> readIndex(const std::string& path, const std::vector<std
   while (std::getline(f, line))
   {
     ++n;
-    if (trim(line).empty() || trim(line)[0] == '#')
+    if (trimmed(line).empty() || trimmed(line)[0] == '#')
       continue;
     const std::string where = path + ":" + std::to_string(n);
     const auto fields = splitCsv(line);
@@ -169,26 +161,23 @@ void saveSampleFrames(const std::string& path, const SampleFrames& frames)
 {
   if (!frames.tracks.empty() && frames.tracks.size() != frames.stamps.size())
     throw DatasetError(path + ": one track id per row expected");
-  const std::string tmp = path + ".tmp";
+  const std::uint64_t rows = frames.descriptors.rows(), cols = frames.descriptors.cols();
+  std::string bytes(kCacheMagic, sizeof(kCacheMagic));
+  const auto put = [&](const void* p, std::size_t n) { bytes.append(static_cast<const char*>(p), n); };
+  put(&rows, sizeof(rows));
+  put(&cols, sizeof(cols));
+  put(frames.stamps.data(), sizeof(double) * rows);
+  put(frames.descriptors.data(), sizeof(float) * rows * cols);
+  if (!frames.tracks.empty())
+    put(frames.tracks.data(), sizeof(std::uint32_t) * rows);
+  try
   {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f)
-      throw DatasetError(path + ": cannot write cache file");
-    const std::uint64_t rows = frames.descriptors.rows(), cols = frames.descriptors.cols();
-    f.write(kCacheMagic, sizeof(kCacheMagic));
-    f.write(reinterpret_cast<const char*>(&rows), sizeof(rows));
-    f.write(reinterpret_cast<const char*>(&cols), sizeof(cols));
-    f.write(reinterpret_cast<const char*>(frames.stamps.data()), sizeof(double) * rows);
-    f.write(reinterpret_cast<const char*>(frames.descriptors.data()), sizeof(float) * rows * cols);
-    if (!frames.tracks.empty())
-    {
-      f.write(reinterpret_cast<const char*>(frames.tracks.data()), sizeof(std::uint32_t) * rows);
-    }
-    if (!f.flush())
-      throw DatasetError(path + ": write failed");
+    writeTextAtomically(path, bytes);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw DatasetError(path + ": cannot rename the temporary cache file into place");
+  catch (const std::runtime_error& e)
+  {
+    throw DatasetError(std::string("cache file ") + e.what());
+  }
 }
 
 bool loadSampleFrames(const std::string& path, SampleFrames& frames)

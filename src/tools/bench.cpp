@@ -1,10 +1,11 @@
 // bench: per-stage timings of the flow pipeline and the classifier, ours beside the paper-faithful
 // PCL-octree baseline on the same frames in the same run (see docs/bench.md).
 #include "cli.h"
-#include "../bench/moving_person.h"
 #include "../bench/octree_flow_baseline.h"
 #include "../bench/stage_stats.h"
 #include "../bench/training_set.h"
+
+#include <pcl/filters/voxel_grid.h>
 
 #include <action_flow/action_classifier.h>
 #include <action_flow/action_model.h>
@@ -45,7 +46,6 @@ using namespace action_flow::bench;
 
 namespace
 {
-const char* const kDefaultSource = "synth";
 
 struct Options
 {
@@ -60,7 +60,6 @@ struct Options
   bool tracker = true;
   Clock clock = Clock::Wall;
   double octree_scale = 8.0;  // baseline octree resolution = this x voxel unless --octree-resolution
-  std::string source = kDefaultSource;
   std::string descriptors;  // an evaluate cache folder of real frame descriptors
   std::string query_person = "p12";
 };
@@ -75,7 +74,6 @@ action_flow::tools::Options commandLine()
       .value("octree-resolution", "M", "the octree baseline's resolution (default: 8 x the voxel size)")
       .value("training", "N", "training sequences of the classification bench (>= 2, default 540)")
       .value("queries", "N", "its queries (default 300)")
-      .value("source", "synth|generated", "the person clouds: the virtual Kinect (default) or the generated figure")
       .flag("cpu-time", "time the thread's CPU time instead of wall time")
       .flag("no-baseline", "skip the baselines")
       .flag("no-classification", "skip the classification bench")
@@ -113,7 +111,6 @@ Options parse(int argc, char** argv)
     o.tracker = !a.has("no-tracker");
     if (a.has("cpu-time"))
       o.clock = Clock::ThreadCpu;
-    o.source = a.get("source", o.source);
     if (a.has("voxels"))
     {
       o.voxels.clear();
@@ -134,9 +131,19 @@ Options parse(int argc, char** argv)
   }
   if (o.octree_resolution < 0 || o.voxels.empty())
     usage("--octree-resolution must be >= 0, --voxels not empty");
-  if (o.source != "synth" && o.source != "generated")
-    usage("--source must be synth or generated");
   return o;
+}
+
+// Voxel-grid filter as the tracker applies it to person clouds (PCL's VoxelGrid: one centroid per
+// occupied voxel, colours averaged).
+Cloud voxelise(const Cloud& in, float voxel)
+{
+  pcl::VoxelGrid<PointT> grid;
+  grid.setInputCloud(pcl::make_shared<Cloud>(in));
+  grid.setLeafSize(voxel, voxel, voxel);
+  Cloud out;
+  grid.filter(out);
+  return out;
 }
 
 std::string ms(double s)
@@ -522,38 +529,27 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
   Cloud full;
   std::vector<std::uint8_t> mask;
   Stopwatch w(o.clock);
-  if (o.source == "synth")
+  for (int p = 1; pairs < o.pairs; ++p)
   {
-    for (int p = 1; pairs < o.pairs; ++p)
+    synth::SampleSpec spec;
+    char id[16];
+    std::snprintf(id, sizeof id, "p%02d", p);
+    spec.person = id;
+    spec.action = "wave";
+    const synth::SampleRenderer sample(spec);
+    const Eigen::Isometry3f pose = sample.camera().worldFromOptical();
+    // The floor (world z = 0) in the optical frame: normal = world up seen from the camera.
+    const Eigen::Vector3f up = pose.linear().row(2).transpose();
+    const Eigen::Vector4f ground(up.x(), up.y(), up.z(), pose.translation().z());
+    const int frames = std::min(sample.frames(), o.pairs - pairs + 1);
+    for (int i = 0; i < frames; ++i)
     {
-      synth::SampleSpec spec;
-      char id[16];
-      std::snprintf(id, sizeof id, "p%02d", p);
-      spec.person = id;
-      spec.action = "wave";
-      const synth::SampleRenderer sample(spec);
-      const Eigen::Isometry3f pose = sample.camera().worldFromOptical();
-      // The floor (world z = 0) in the optical frame: normal = world up seen from the camera.
-      const Eigen::Vector3f up = pose.linear().row(2).transpose();
-      const Eigen::Vector4f ground(up.x(), up.y(), up.z(), pose.translation().z());
-      const int frames = std::min(sample.frames(), o.pairs - pairs + 1);
-      for (int i = 0; i < frames; ++i)
-      {
-        sample.render(i, full, &mask);
-        addFrame(full, mask, sample.stamp(i), i == 0, ground);
-      }
-      pairs += frames - 1;
-      std::printf("  rendered %s_wave_1: %d frames (%d pairs so far, %.0f s)\n", id, frames, pairs, w.seconds());
-      std::fflush(stdout);
+      sample.render(i, full, &mask);
+      addFrame(full, mask, sample.stamp(i), i == 0, ground);
     }
-    return;
-  }
-  const MovingPerson person;
-  const Eigen::Vector4f ground(0, -1, 0, person.params().camera_height);  // optical frame: y down
-  for (int i = 0; i <= o.pairs; ++i)
-  {
-    person.render(i, full, &mask);
-    addFrame(full, mask, person.stamp(i), i == 0, ground);
+    pairs += frames - 1;
+    std::printf("  rendered %s_wave_1: %d frames (%d pairs so far, %.0f s)\n", id, frames, pairs, w.seconds());
+    std::fflush(stdout);
   }
 }
 

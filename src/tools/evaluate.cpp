@@ -298,6 +298,82 @@ json crossViewTable(const CrossViewSet& set, const json& results)
   return table;
 }
 
+namespace
+{
+std::vector<LabelledSample> labelledSamples(const std::vector<SampleRef>& samples, const std::vector<SampleFrames>& frames)
+{
+  std::vector<LabelledSample> out;
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    out.push_back({ samples[i].person, samples[i].action, &frames[i] });
+  return out;
+}
+
+std::vector<Fold> protocolFolds(const std::string& protocol, const std::vector<std::string>& persons, const Args& args,
+                                const CrossViewSet& cross_view)
+{
+  if (protocol == "lopo")
+    return leaveOnePersonOut(persons);
+  if (protocol == "cross-subject")
+    return { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
+  if (protocol == "cross-view")
+    return crossViewFolds(cross_view);
+  throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, cross-view, online or detection)");
+}
+
+// Each variant over the folds: its accuracy, per-fold accuracies, confusion matrix (also written
+// as DIR/confusion_<variant>.csv) and time.
+json variantResults(const std::vector<Variant>& variants, const std::vector<SampleRef>& samples,
+                    const std::vector<std::vector<SampleFrames>>& frames, const std::vector<Fold>& folds, int jobs,
+                    const std::string& dir, std::vector<Pca>& fold_pcas)
+{
+  json results = json::array();
+  for (const auto& v : variants)
+  {
+    std::vector<double> fold_acc;
+    const auto v0 = std::chrono::steady_clock::now();
+    const Confusion c = v.name == "joints" ? jointBaseline(samples, folds, fold_acc)
+                                           : runFolds(labelledSamples(samples, frames[v.extraction]), folds, v.params,
+                                                      &fold_acc, &fold_pcas, jobs);
+    double mean_fold = 0.0;
+    for (double a : fold_acc)
+      mean_fold += a / fold_acc.size();
+    results.push_back({ { "variant", v.name },
+                        { "title", v.title },
+                        { "accuracy", c.accuracy() },
+                        { "mean_fold_accuracy", mean_fold },
+                        { "fold_accuracy", fold_acc },
+                        { "confusion", confusionJson(c) },
+                        { "seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - v0).count() },
+                        { "pca_components", nullptr } });
+    if (v.params.use_pca && !fold_pcas.empty())
+      results.back()["pca_components"] = fold_pcas.front().outputSize();
+    writeTextAtomically(dir + "/confusion_" + v.name + ".csv", confusionCsv(c));
+    std::printf("%-58s accuracy %5.1f%%  (mean over folds %5.1f%%)\n", v.title.c_str(), 100 * c.accuracy(),
+                100 * mean_fold);
+  }
+  return results;
+}
+
+// The paper's accuracy for 1..sweep frames per sequence, without and with PCA.
+json framesSweep(const RecognitionParams& sum, const RecognitionParams& pca, const std::vector<LabelledSample>& samples,
+                 const std::vector<Fold>& folds, int sweep, std::vector<Pca>& fold_pcas)
+{
+  json curve = { { "frames", json::array() }, { "sumflow", json::array() }, { "sumflow_pca", json::array() } };
+  for (int f = 1; f <= sweep; ++f)
+  {
+    RecognitionParams a = sum, b = pca;
+    a.frames = b.frames = f;
+    curve["frames"].push_back(f);
+    curve["sumflow"].push_back(runFolds(samples, folds, a).accuracy());
+    curve["sumflow_pca"].push_back(runFolds(samples, folds, b, nullptr, &fold_pcas).accuracy());
+    if (f % 10 == 0 || f == sweep)
+      std::fprintf(stderr, "  paper's frames sweep: %d/%d\n", f, sweep);
+  }
+  return curve;
+}
+
+}  // namespace
+
 int main(int argc, char** argv)
 {
   return runTool("evaluate", [&]() -> int {
@@ -333,15 +409,7 @@ int main(int argc, char** argv)
     std::vector<std::string> persons;
     for (const auto& s : samples)
       persons.push_back(s.person);
-    std::vector<Fold> folds;
-    if (protocol == "lopo")
-      folds = leaveOnePersonOut(persons);
-    else if (protocol == "cross-subject")
-      folds = { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
-    else if (protocol == "cross-view")
-      folds = crossViewFolds(cross_view);
-    else
-      throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, cross-view, online or detection)");
+    const std::vector<Fold> folds = protocolFolds(protocol, persons, args, cross_view);
     std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", samples.size(),
                  uniqueSorted(persons).size(), folds.size(), protocol.c_str());
 
@@ -349,12 +417,7 @@ int main(int argc, char** argv)
     refuseEmptySamples(samples, frames[0], args.has("allow-empty"));
     const auto t1 = std::chrono::steady_clock::now();
 
-    const auto labelled = [&](std::size_t extraction) {
-      std::vector<LabelledSample> out;
-      for (std::size_t i = 0; i < samples.size(); ++i)
-        out.push_back({ samples[i].person, samples[i].action, &frames[extraction][i] });
-      return out;
-    };
+    const auto labelled = [&](std::size_t extraction) { return labelledSamples(samples, frames[extraction]); };
     std::size_t no_flow = 0;
     for (const auto& f : frames[0])
       no_flow += f.descriptors.rows() == 0;
@@ -370,53 +433,16 @@ int main(int argc, char** argv)
                           { "train_per_fold", folds.front().train.size() },
                           { "test_per_fold", folds.front().test.size() } };
     report["frames"] = base.frames;
-    json results = json::array();
     // The PCA basis of each fold, fitted once on its frame descriptors (it does not depend on F),
     // serves the PCA variant and the whole frames sweep.
     std::vector<Pca> fold_pcas;
-    for (const auto& v : variants)
-    {
-      std::vector<double> fold_acc;
-      const auto v0 = std::chrono::steady_clock::now();
-      const Confusion c = v.name == "joints" ? jointBaseline(samples, folds, fold_acc)
-                                             : runFolds(labelled(v.extraction), folds, v.params, &fold_acc, &fold_pcas,
-                                                        jobs);
-      double mean_fold = 0.0;
-      for (double a : fold_acc)
-        mean_fold += a / fold_acc.size();
-      results.push_back({ { "variant", v.name },
-                          { "title", v.title },
-                          { "accuracy", c.accuracy() },
-                          { "mean_fold_accuracy", mean_fold },
-                          { "fold_accuracy", fold_acc },
-                          { "confusion", confusionJson(c) },
-                          { "seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - v0).count() },
-                          { "pca_components", nullptr } });
-      if (v.params.use_pca && !fold_pcas.empty())
-        results.back()["pca_components"] = fold_pcas.front().outputSize();
-      writeTextAtomically(dir + "/confusion_" + v.name + ".csv", confusionCsv(c));
-      std::printf("%-58s accuracy %5.1f%%  (mean over folds %5.1f%%)\n", v.title.c_str(), 100 * c.accuracy(),
-                  100 * mean_fold);
-    }
+    const json results = variantResults(variants, samples, frames, folds, jobs, dir, fold_pcas);
     report["variants"] = results;
     if (protocol == "cross-view")
       report["cross_view"] = crossViewTable(cross_view, results);
 
     if (sweep > 0)
-    {
-      json curve = { { "frames", json::array() }, { "sumflow", json::array() }, { "sumflow_pca", json::array() } };
-      for (int f = 1; f <= sweep; ++f)
-      {
-        RecognitionParams a = sum, b = pca;
-        a.frames = b.frames = f;
-        curve["frames"].push_back(f);
-        curve["sumflow"].push_back(runFolds(labelled(0), folds, a).accuracy());
-        curve["sumflow_pca"].push_back(runFolds(labelled(0), folds, b, nullptr, &fold_pcas).accuracy());
-        if (f % 10 == 0 || f == sweep)
-          std::fprintf(stderr, "  paper's frames sweep: %d/%d\n", f, sweep);
-      }
-      report["frames_sweep"] = curve;
-    }
+      report["frames_sweep"] = framesSweep(sum, pca, labelled(0), folds, sweep, fold_pcas);
     const auto t2 = std::chrono::steady_clock::now();
     report["timing"] = { { "descriptors_s", std::chrono::duration<double>(t1 - t0).count() },
                          { "classification_s", std::chrono::duration<double>(t2 - t1).count() },

@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "synth_bag.h"
 
+#include <action_flow/files.h>
 #include <action_flow/synth/crowd.h>
 #include <action_flow/synth/clutter.h>
 #include <action_flow/synth/synth.h>
@@ -196,9 +197,8 @@ int renderCrowd(const SampleSpec& spec, const fs::path& dir, bool preview, const
   return crowd.frames();
 }
 
-}  // namespace
-
-int main(int argc, char** argv)
+// What the command line asks for.
+struct Settings
 {
   std::string dataset = "ias", skeletons, segments, out = "synth_data", montage;
   std::string only_person, only_action;
@@ -210,184 +210,160 @@ int main(int argc, char** argv)
   bool all_msr = false, skip_existing = false, list = false, preview = false, quiet = false, fakenect = false;
   std::vector<double> preview_at;
   BagOptions bag;
-  const action_flow::tools::Options o = options();
-  std::unique_ptr<action_flow::tools::Args> parsed;
-  try
-  {
-    parsed = std::make_unique<action_flow::tools::Args>(argc, argv, o);
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "synth: " << e.what() << " (--help lists the options)" << std::endl;
-    return 2;
-  }
-  const action_flow::tools::Args& args = *parsed;
-  if (args.has("help"))
-    return o.printHelp();
-  try
-  {
-    dataset = args.get("dataset", dataset);
-    skeletons = args.get("skeletons");
-    segments = args.get("segments");
-    all_msr = args.has("all-msr");
-    people_given = args.has("people");
-    people = int(args.integer("people", people, 1, 99));
-    scenes = int(args.integer("scenes", scenes, 1, 999));
-    seconds = double(args.integer("seconds", 60, 2, 3600));
-    repetitions = int(args.integer("repetitions", repetitions, 1, 99));
-    first_person = int(args.integer("first-person", first_person, 1, 99));
-    streams = int(args.integer("streams", streams, 1, 99));
-    stream_actions = int(args.integer("stream-actions", stream_actions, 1, 99));
-    seed = std::uint64_t(args.integer("seed", 1, 0, 2147483647));
-    only_person = args.get("person");
-    only_action = args.get("action");
-    only_rep = int(args.integer("repetition", 0, 1, 99));
-    every = int(args.integer("every", every, 1, 1000000));
-    limit = int(args.integer("limit", limit, 1, 1000000));
-    max_frames = int(args.integer("frames", max_frames, 1, 1000000));
-    out = args.get("out", out);
-    jobs = int(args.integer("jobs", jobs, 1, 64));
-    skip_existing = args.has("skip-existing");
-    bag.points = args.has("points");
-    bag.raw_images = args.has("raw-images");
-    bag.compression = args.get("compression", bag.compression);
-    bag.jpeg_quality = int(args.integer("jpeg-quality", bag.jpeg_quality, 1, 100));
-    bag.points_topic = args.get("points-topic", bag.points_topic);
-    bag.rgb_topic = args.get("rgb-topic", bag.rgb_topic);
-    bag.depth_topic = args.get("depth-topic", bag.depth_topic);
-    bag.info_topic = args.get("info-topic", bag.info_topic);
-    bag.mask_topic = args.get("mask-topic", bag.mask_topic);
-    bag.tf_topic = args.get("tf-topic", bag.tf_topic);
-    bag.action_topic = args.get("action-topic", bag.action_topic);
-    list = args.has("list");
-    preview = args.has("preview");
-    std::stringstream at(args.get("preview-at"));
-    for (std::string v; std::getline(at, v, ',');)
-    {
-      std::size_t used = 0;
-      double f = -1;
-      try
-      {
-        f = std::stod(v, &used);
-      }
-      catch (const std::exception&)
-      {
-      }
-      if (used != v.size() || !(f >= 0 && f <= 1))
-        throw action_flow::tools::UsageError("--preview-at expects numbers in [0,1], got '" + v + "'");
-      preview_at.push_back(f);
-    }
-    fakenect = args.has("fakenect");
-    montage = args.get("montage");
-    quiet = args.has("quiet");
-  }
-  catch (const std::exception& e)
-  {
-    std::cerr << "synth: " << e.what() << std::endl;
-    return 2;
-  }
-  if (bag.compression != "none" && bag.compression != "lz4" && bag.compression != "bz2")
-    fail("--compression must be none, lz4 or bz2, got '" + bag.compression + "'");
-  if (fakenect && (preview || dataset == "crowd"))
-    fail("--fakenect writes one sample's frames: not with --preview or --dataset crowd");
-  if (preview_at.empty())
-    preview_at.push_back(0.5);
+};
 
+// The options into Settings; @throws UsageError naming a bad one.
+Settings readSettings(const action_flow::tools::Args& args)
+{
+  Settings st;
+  st.dataset = args.get("dataset", st.dataset);
+  st.skeletons = args.get("skeletons");
+  st.segments = args.get("segments");
+  st.all_msr = args.has("all-msr");
+  st.people_given = args.has("people");
+  st.people = int(args.integer("people", st.people, 1, 99));
+  st.scenes = int(args.integer("scenes", st.scenes, 1, 999));
+  st.seconds = double(args.integer("seconds", 60, 2, 3600));
+  st.repetitions = int(args.integer("repetitions", st.repetitions, 1, 99));
+  st.first_person = int(args.integer("first-person", st.first_person, 1, 99));
+  st.streams = int(args.integer("streams", st.streams, 1, 99));
+  st.stream_actions = int(args.integer("stream-actions", st.stream_actions, 1, 99));
+  st.seed = std::uint64_t(args.integer("seed", 1, 0, 2147483647));
+  st.only_person = args.get("person");
+  st.only_action = args.get("action");
+  st.only_rep = int(args.integer("repetition", 0, 1, 99));
+  st.every = int(args.integer("every", st.every, 1, 1000000));
+  st.limit = int(args.integer("limit", st.limit, 1, 1000000));
+  st.max_frames = int(args.integer("frames", st.max_frames, 1, 1000000));
+  st.out = args.get("out", st.out);
+  st.jobs = int(args.integer("jobs", st.jobs, 1, 64));
+  st.skip_existing = args.has("skip-existing");
+  st.bag.points = args.has("points");
+  st.bag.raw_images = args.has("raw-images");
+  st.bag.compression = args.get("compression", st.bag.compression);
+  st.bag.jpeg_quality = int(args.integer("jpeg-quality", st.bag.jpeg_quality, 1, 100));
+  st.bag.points_topic = args.get("points-topic", st.bag.points_topic);
+  st.bag.rgb_topic = args.get("rgb-topic", st.bag.rgb_topic);
+  st.bag.depth_topic = args.get("depth-topic", st.bag.depth_topic);
+  st.bag.info_topic = args.get("info-topic", st.bag.info_topic);
+  st.bag.mask_topic = args.get("mask-topic", st.bag.mask_topic);
+  st.bag.tf_topic = args.get("tf-topic", st.bag.tf_topic);
+  st.bag.action_topic = args.get("action-topic", st.bag.action_topic);
+  st.list = args.has("list");
+  st.preview = args.has("preview");
+  std::stringstream at(args.get("preview-at"));
+  for (std::string v; std::getline(at, v, ',');)
+  {
+    std::size_t used = 0;
+    double f = -1;
+    try
+    {
+      f = std::stod(v, &used);
+    }
+    catch (const std::exception&)
+    {
+    }
+    if (used != v.size() || !(f >= 0 && f <= 1))
+      throw action_flow::tools::UsageError("--preview-at expects numbers in [0,1], got '" + v + "'");
+    st.preview_at.push_back(f);
+  }
+  st.fakenect = args.has("fakenect");
+  st.montage = args.get("montage");
+  st.quiet = args.has("quiet");
+  if (st.bag.compression != "none" && st.bag.compression != "lz4" && st.bag.compression != "bz2")
+    throw action_flow::tools::UsageError("--compression must be none, lz4 or bz2, got '" + st.bag.compression + "'");
+  if (st.fakenect && (st.preview || st.dataset == "crowd"))
+    throw action_flow::tools::UsageError("--fakenect writes one sample's frames: not with --preview or --dataset crowd");
+  if (st.preview_at.empty())
+    st.preview_at.push_back(0.5);
+  return st;
+}
+
+// Every sample of the dataset the settings name.
+std::vector<SampleSpec> datasetSamples(const Settings& st)
+{
   std::vector<SampleSpec> specs;
-  try
+  if (st.dataset == "ias")
+    specs = iasLabSamples(st.people, st.repetitions, st.seed);
+  else if (st.dataset == "stream")
+    specs = streamSamples(st.first_person, st.people, st.streams, st.stream_actions, st.seed);
+  else if (st.dataset == "clutter")
+    specs = clutterSamples(st.repetitions, st.seed);
+  else if (st.dataset == "msr")
   {
-    if (dataset == "ias")
-      specs = iasLabSamples(people, repetitions, seed);
-    else if (dataset == "stream")
-      specs = streamSamples(first_person, people, streams, stream_actions, seed);
-    else if (dataset == "clutter")
-      specs = clutterSamples(repetitions, seed);
-    else if (dataset == "msr")
+    if (st.skeletons.empty())
+      fail("--dataset msr needs --skeletons DIR (the MSR Action3D skeleton folder)");
+    specs = msrSamples(st.skeletons, st.seed, !st.all_msr);
+  }
+  else if (st.dataset == "msr_stream")
+  {
+    if (st.skeletons.empty())
+      fail("--dataset msr_stream needs --skeletons DIR (or a skeleton file with --segments FILE)");
+    if (!st.segments.empty())
     {
-      if (skeletons.empty())
-        fail("--dataset msr needs --skeletons DIR (the MSR Action3D skeleton folder)");
-      specs = msrSamples(skeletons, seed, !all_msr);
+      SampleSpec s;
+      s.dataset = "msr_stream";
+      s.person = st.only_person.empty() ? "s01" : st.only_person;  // the body
+      s.action = "stream";
+      s.seed = st.seed;
+      s.skeleton_file = st.skeletons;
+      s.segments_file = st.segments;
+      specs = { s };
     }
-    else if (dataset == "msr_stream")
-    {
-      if (skeletons.empty())
-        fail("--dataset msr_stream needs --skeletons DIR (or a skeleton file with --segments FILE)");
-      if (!segments.empty())
-      {
-        SampleSpec s;
-        s.dataset = "msr_stream";
-        s.person = only_person.empty() ? "s01" : only_person;  // the body
-        s.action = "stream";
-        s.seed = seed;
-        s.skeleton_file = skeletons;
-        s.segments_file = segments;
-        specs = { s };
-      }
-      else
-      {
-        std::vector<std::string> subjects;
-        if (!only_person.empty())
-          subjects = { only_person };
-        else
-          for (const SampleSpec& m : msrSamples(skeletons, seed))
-            if (subjects.empty() || subjects.back() != m.person)
-              subjects.push_back(m.person);
-        std::sort(subjects.begin(), subjects.end());
-        subjects.erase(std::unique(subjects.begin(), subjects.end()), subjects.end());
-        specs = msrStreamSamples(skeletons, subjects, streams, stream_actions, seed);
-      }
-    }
-    else if (dataset == "crowd")
-      specs = crowdSamples(people_given ? people : 3, scenes, seconds, seed);
     else
-      fail("--dataset must be ias, stream, msr, msr_stream, crowd or clutter, got '" + dataset + "'");
-    if (!segments.empty() && dataset != "msr_stream")
-      fail("--segments is for --dataset msr_stream (a continuous skeleton file)");
+    {
+      std::vector<std::string> subjects;
+      if (!st.only_person.empty())
+        subjects = { st.only_person };
+      else
+        for (const SampleSpec& m : msrSamples(st.skeletons, st.seed))
+          if (subjects.empty() || subjects.back() != m.person)
+            subjects.push_back(m.person);
+      std::sort(subjects.begin(), subjects.end());
+      subjects.erase(std::unique(subjects.begin(), subjects.end()), subjects.end());
+      specs = msrStreamSamples(st.skeletons, subjects, st.streams, st.stream_actions, st.seed);
+    }
   }
-  catch (const std::exception& e)
-  {
-    fail(e.what());
-  }
-  if (!only_action.empty() && dataset == "ias")
+  else if (st.dataset == "crowd")
+    specs = crowdSamples(st.people_given ? st.people : 3, st.scenes, st.seconds, st.seed);
+  else
+    fail("--dataset must be ias, stream, msr, msr_stream, crowd or clutter, got '" + st.dataset + "'");
+  if (!st.segments.empty() && st.dataset != "msr_stream")
+    fail("--segments is for --dataset msr_stream (a continuous skeleton file)");
+  return specs;
+}
+
+// The samples selected by --person, --action, --repetition, --every and --limit.
+std::vector<SampleSpec> selectSamples(const Settings& st, const std::vector<SampleSpec>& specs)
+{
+  if (!st.only_action.empty() && st.dataset == "ias")
   {
     const auto& acts = iasLabActions();
-    if (std::find(acts.begin(), acts.end(), only_action) == acts.end())
-      fail("--action: unknown action '" + only_action + "'");
+    if (std::find(acts.begin(), acts.end(), st.only_action) == acts.end())
+      fail("--action: unknown action '" + st.only_action + "'");
   }
   std::vector<SampleSpec> selected;
   size_t matching = 0;
   for (SampleSpec s : specs)
   {
-    if ((!only_person.empty() && s.person != only_person) || (!only_action.empty() && s.action != only_action) ||
-        (only_rep && s.repetition != only_rep))
+    if ((!st.only_person.empty() && s.person != st.only_person) || (!st.only_action.empty() && s.action != st.only_action) ||
+        (st.only_rep && s.repetition != st.only_rep))
       continue;
-    if (matching++ % size_t(every) != 0)
+    if (matching++ % size_t(st.every) != 0)
       continue;
-    s.max_frames = max_frames;
+    s.max_frames = st.max_frames;
     selected.push_back(s);
-    if (limit && int(selected.size()) >= limit)
+    if (st.limit && int(selected.size()) >= st.limit)
       break;
   }
-  if (selected.empty())
-    fail("no sample matches the selection");
-  if (list)
-  {
-    for (const SampleSpec& s : selected)
-      std::cout << s.name() << "," << s.person << "," << s.action << "," << s.repetition << "\n";
-    return 0;
-  }
+  return selected;
+}
 
-  std::signal(SIGINT, onSignal);
-  std::signal(SIGTERM, onSignal);
-  const fs::path dir = preview ? fs::path(out) : fs::path(out) / dataset;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec)
-    fail(dir.string() + ": cannot create folder: " + ec.message());
-  Progress progress(selected.size(), quiet);
-
-  std::vector<int> frames_of(selected.size(), -1);
-  std::vector<std::vector<std::string>> preview_files(selected.size());
+// Renders the selected samples on st.jobs threads: frames_of[k] the frames written of sample k
+// (-1: not complete), preview_files[k] its previews' prefixes. Returns the first error, if any.
+std::string renderAll(const Settings& st, const std::vector<SampleSpec>& selected, const fs::path& dir, Progress& progress,
+                      std::vector<int>& frames_of, std::vector<std::vector<std::string>>& preview_files)
+{
   std::atomic<size_t> next{ 0 };
   std::mutex error_mutex;
   std::string first_error;
@@ -402,16 +378,16 @@ int main(int argc, char** argv)
       {
         if (spec.dataset == "crowd")
         {
-          frames_of[k] = renderCrowd(spec, dir, preview, preview_at, bag, skip_existing, progress, preview_files[k]);
+          frames_of[k] = renderCrowd(spec, dir, st.preview, st.preview_at, st.bag, st.skip_existing, progress, preview_files[k]);
           if (frames_of[k] < 0)
             return;  // interrupted
           progress.sample();
           continue;
         }
         SampleRenderer sample(spec);
-        if (preview)
+        if (st.preview)
         {
-          for (double at : preview_at)
+          for (double at : st.preview_at)
           {
             const int f = std::min(sample.frames() - 1, int(at * (sample.frames() - 1) + 0.5));
             char buf[16];
@@ -423,10 +399,10 @@ int main(int argc, char** argv)
           }
           frames_of[k] = sample.frames();
         }
-        else if (fakenect)
+        else if (st.fakenect)
         {
           const fs::path path = dir / (spec.name() + ".fakenect");
-          if (!(skip_existing && fs::exists(path / "INDEX.txt")) &&
+          if (!(st.skip_existing && fs::exists(path / "INDEX.txt")) &&
               !writeFakenectDump(sample, path.string(), &g_cancel, [&]() { progress.frame(); }))
             return;  // interrupted; the temporary folder is gone
           frames_of[k] = sample.frames();
@@ -434,8 +410,8 @@ int main(int argc, char** argv)
         else
         {
           const fs::path path = dir / (spec.name() + ".bag");
-          if (!(skip_existing && fs::exists(path)) &&
-              !writeSampleBag(sample, path.string(), bag, &g_cancel, [&]() { progress.frame(); }))
+          if (!(st.skip_existing && fs::exists(path)) &&
+              !writeSampleBag(sample, path.string(), st.bag, &g_cancel, [&]() { progress.frame(); }))
             return;  // interrupted; the temporary file is gone
           // A stream's ground truth beside its bag (after it: a bag without one is completed by
           // --skip-existing).
@@ -456,86 +432,146 @@ int main(int argc, char** argv)
     }
   };
   std::vector<std::thread> threads;
-  for (int j = 0; j < std::min<int>(jobs, int(selected.size())); ++j)
+  for (int j = 0; j < std::min<int>(st.jobs, int(selected.size())); ++j)
     threads.emplace_back(worker);
   for (auto& t : threads)
     t.join();
+  return first_error;
+}
+
+// The index lists every complete sample: this run's, and those of earlier runs into the same
+// folder whose bags are still there (a second `--action` run adds to it, it does not replace it).
+// Written under a temporary name, then renamed. Returns the complete samples of this run.
+size_t writeIndex(const fs::path& dir, const std::vector<SampleSpec>& selected, const std::vector<int>& frames_of)
+{
+  size_t complete = 0;
+  std::error_code ec;
+  const fs::path index = dir / "index.csv";
+  static const std::string kHeader = "path,person,action,repetition,frames";
+  std::set<std::string> written;
+  for (size_t k = 0; k < selected.size(); ++k)
+    if (frames_of[k] >= 0)
+      written.insert(selected[k].name() + ".bag");
+  std::vector<std::string> kept;
+  {
+    std::ifstream old(index);
+    std::string line;
+    if (std::getline(old, line) && line == kHeader)
+      while (std::getline(old, line))
+      {
+        const std::string bag = line.substr(0, line.find(','));
+        if (!bag.empty() && !written.count(bag) && fs::is_regular_file(dir / bag, ec))
+          kept.push_back(line);
+      }
+  }
+  std::ostringstream csv;
+  csv << kHeader << "\n";
+  for (const std::string& line : kept)
+    csv << line << "\n";
+  for (size_t k = 0; k < selected.size(); ++k)
+    if (frames_of[k] >= 0)
+    {
+      csv << selected[k].name() << ".bag," << selected[k].person << "," << selected[k].action << ","
+          << selected[k].repetition << "," << frames_of[k] << "\n";
+      ++complete;
+    }
+  try
+  {
+    action_flow::writeTextAtomically(index.string(), csv.str());
+  }
+  catch (const std::exception& e)
+  {
+    fail(e.what());
+  }
+  return complete;
+}
+
+// One grid of all previews: colour row above depth row for each, up to 5 per row, at 1/3 size.
+void writeMontage(const std::string& montage, const std::vector<std::vector<std::string>>& preview_files)
+{
+  std::vector<cv::Mat> tiles;
+  for (const auto& files : preview_files)
+    for (const std::string& prefix : files)
+    {
+      cv::Mat c = cv::imread(prefix + "_color.png"), d = cv::imread(prefix + "_depth.png");
+      cv::Mat both;
+      cv::vconcat(c, d, both);
+      cv::resize(both, both, cv::Size(), 1.0 / 3, 1.0 / 3, cv::INTER_AREA);
+      tiles.push_back(both);
+    }
+  const int cols = std::min<int>(5, int(tiles.size()));
+  std::vector<cv::Mat> rows;
+  for (size_t i = 0; i < tiles.size(); i += size_t(cols))
+  {
+    std::vector<cv::Mat> row(tiles.begin() + long(i), tiles.begin() + long(std::min(tiles.size(), i + size_t(cols))));
+    while (int(row.size()) < cols)
+      row.push_back(cv::Mat::zeros(tiles[0].size(), tiles[0].type()));
+    cv::Mat r;
+    cv::hconcat(row, r);
+    rows.push_back(r);
+  }
+  cv::Mat grid;
+  cv::vconcat(rows, grid);
+  if (!cv::imwrite(montage, grid, { cv::IMWRITE_JPEG_QUALITY, 85 }))
+    fail(montage + ": cannot write the montage");
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  const action_flow::tools::Options o = options();
+  Settings st;
+  try
+  {
+    const action_flow::tools::Args args(argc, argv, o);
+    if (args.has("help"))
+      return o.printHelp();
+    st = readSettings(args);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "synth: " << e.what() << " (--help lists the options)" << std::endl;
+    return 2;
+  }
+  std::vector<SampleSpec> selected;
+  try
+  {
+    selected = selectSamples(st, datasetSamples(st));
+  }
+  catch (const std::exception& e)
+  {
+    fail(e.what());
+  }
+  if (selected.empty())
+    fail("no sample matches the selection");
+  if (st.list)
+  {
+    for (const SampleSpec& s : selected)
+      std::cout << s.name() << "," << s.person << "," << s.action << "," << s.repetition << "\n";
+    return 0;
+  }
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+  const fs::path dir = st.preview ? fs::path(st.out) : fs::path(st.out) / st.dataset;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    fail(dir.string() + ": cannot create folder: " + ec.message());
+  Progress progress(selected.size(), st.quiet);
+  std::vector<int> frames_of(selected.size(), -1);
+  std::vector<std::vector<std::string>> preview_files(selected.size());
+  const std::string first_error = renderAll(st, selected, dir, progress, frames_of, preview_files);
   progress.finish();
 
-  // The index lists every complete sample: this run's, and those of earlier runs into the same
-  // folder whose bags are still there (a second `--action` run adds to it, it does not replace it).
-  // Written under a temporary name, then renamed.
   size_t complete = 0;
-  if (fakenect)
+  if (st.fakenect)
     complete = size_t(std::count_if(frames_of.begin(), frames_of.end(), [](int f) { return f >= 0; }));
-  else if (!preview)
-  {
-    const fs::path index = dir / "index.csv", tmp = dir / "index.csv.tmp";
-    static const std::string kHeader = "path,person,action,repetition,frames";
-    std::set<std::string> written;
-    for (size_t k = 0; k < selected.size(); ++k)
-      if (frames_of[k] >= 0)
-        written.insert(selected[k].name() + ".bag");
-    std::vector<std::string> kept;
-    {
-      std::ifstream old(index);
-      std::string line;
-      if (std::getline(old, line) && line == kHeader)
-        while (std::getline(old, line))
-        {
-          const std::string bag = line.substr(0, line.find(','));
-          if (!bag.empty() && !written.count(bag) && fs::is_regular_file(dir / bag, ec))
-            kept.push_back(line);
-        }
-    }
-    {
-      std::ofstream csv(tmp);
-      csv << kHeader << "\n";
-      for (const std::string& line : kept)
-        csv << line << "\n";
-      for (size_t k = 0; k < selected.size(); ++k)
-        if (frames_of[k] >= 0)
-        {
-          csv << selected[k].name() << ".bag," << selected[k].person << "," << selected[k].action << ","
-              << selected[k].repetition << "," << frames_of[k] << "\n";
-          ++complete;
-        }
-      if (!csv)
-        fail(tmp.string() + ": cannot write the index");
-    }
-    fs::rename(tmp, index, ec);
-    if (ec)
-      fail(index.string() + ": cannot rename the index into place: " + ec.message());
-  }
-  else if (!montage.empty() && first_error.empty() && !g_cancel)
-  {
-    // One grid: colour row above depth row for each preview, up to 5 per row, at 1/3 size.
-    std::vector<cv::Mat> tiles;
-    for (const auto& files : preview_files)
-      for (const std::string& prefix : files)
-      {
-        cv::Mat c = cv::imread(prefix + "_color.png"), d = cv::imread(prefix + "_depth.png");
-        cv::Mat both;
-        cv::vconcat(c, d, both);
-        cv::resize(both, both, cv::Size(), 1.0 / 3, 1.0 / 3, cv::INTER_AREA);
-        tiles.push_back(both);
-      }
-    const int cols = std::min<int>(5, int(tiles.size()));
-    std::vector<cv::Mat> rows;
-    for (size_t i = 0; i < tiles.size(); i += size_t(cols))
-    {
-      std::vector<cv::Mat> row(tiles.begin() + long(i), tiles.begin() + long(std::min(tiles.size(), i + size_t(cols))));
-      while (int(row.size()) < cols)
-        row.push_back(cv::Mat::zeros(tiles[0].size(), tiles[0].type()));
-      cv::Mat r;
-      cv::hconcat(row, r);
-      rows.push_back(r);
-    }
-    cv::Mat grid;
-    cv::vconcat(rows, grid);
-    if (!cv::imwrite(montage, grid, { cv::IMWRITE_JPEG_QUALITY, 85 }))
-      fail(montage + ": cannot write the montage");
-  }
+  else if (!st.preview)
+    complete = writeIndex(dir, selected, frames_of);
+  else if (!st.montage.empty() && first_error.empty() && !g_cancel)
+    writeMontage(st.montage, preview_files);
 
   if (!first_error.empty())
     fail(first_error);
@@ -545,7 +581,7 @@ int main(int argc, char** argv)
               << std::endl;
     return 130;
   }
-  if (!quiet)
+  if (!st.quiet)
     std::cerr << "synth: " << selected.size() << " samples, " << progress.frames() << " frames in "
               << fmtTime(progress.seconds()) << " -> " << dir.string() << std::endl;
   return 0;

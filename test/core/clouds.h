@@ -3,6 +3,8 @@
 
 #include <action_flow/types.h>
 
+#include <pcl/filters/voxel_grid.h>
+
 #include <random>
 
 namespace action_flow
@@ -38,6 +40,17 @@ inline Cloud texturedBlock(int nx, int ny, int nz, const Eigen::Vector3f& corner
         c.push_back(p);
       }
   return c;
+}
+
+/** Voxel-grid filter as the tracker applies it (PCL's VoxelGrid: one centroid per occupied voxel). */
+inline Cloud voxelised(const Cloud& in, float voxel)
+{
+  pcl::VoxelGrid<PointT> grid;
+  grid.setInputCloud(pcl::make_shared<Cloud>(in));
+  grid.setLeafSize(voxel, voxel, voxel);
+  Cloud out;
+  grid.filter(out);
+  return out;
 }
 
 /** The same cloud moved by @p d. */

@@ -4,7 +4,7 @@
 // message for a good cloud's stamp, an XYZRGB cloud for a good frame's stamp). A batch after which
 // nothing is served is a failure; its messages are written to a bag that `rosbag play` replays.
 #include "../ros/test_helpers.h"
-#include "../ros/test_scene.h"
+#include "../core/scene.h"
 #include "generators.h"
 #include "harness.h"
 

@@ -1,6 +1,6 @@
 // Test aid: publishes the hand-built scene of test_scene.h, or good and bad variants of it, as
 // the pipeline's input (`cloud`) or directly as the tracker's output (`person_clouds`).
-#include "test_scene.h"
+#include "../core/scene.h"
 
 #include <action_flow/ros/input_checks.h>
 #include <action_flow/ros/stage_types.h>

@@ -2,7 +2,7 @@
 // each stage alone on hand-built input, lazy subscription, zero copy, the Dummy driver, bad input.
 // This node is another process, so everything it reads or writes went through serialization.
 #include "test_helpers.h"
-#include "test_scene.h"
+#include "../core/scene.h"
 
 #include <action_flow/ActionLabel.h>
 #include <action_flow/Classify.h>

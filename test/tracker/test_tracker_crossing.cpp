@@ -1,7 +1,7 @@
 // Two hand-built people who cross in front of a Kinect-like camera keep their track ids through
 // the real PeopleTracker (default parameters), scored with the MOT metrics: no id switch, every
 // frame of each person on one track.
-#include "scene.h"
+#include "../core/scene.h"
 
 #include <action_flow/people_tracker.h>
 #include <action_flow/tracking_metrics.h>

@@ -1,8 +1,8 @@
 // The tracker against the failures: the ground when little floor is seen (kept, given by the
 // camera's mounting, corrected when wrong), walls and furniture that are no people, and bodies that
-// are not upright keeping their track. Scenes from test/tracker/scene.h and the virtual Kinect.
+// are not upright keeping their track. Scenes from test/core/scene.h and the virtual Kinect.
 #include "real_data.h"
-#include "scene.h"
+#include "../core/scene.h"
 
 #include <action_flow/people_tracker.h>
 #include <action_flow/synth/scene.h>

@@ -1,6 +1,6 @@
 // Known-answer tests of the tracker's parts (assignment, motion model, ground, projection fit)
 // and its handling of bad input and bad parameters.
-#include "scene.h"
+#include "../core/scene.h"
 
 #include <action_flow/people_tracker.h>
 #include <action_flow/tracker_assignment.h>

@@ -1,6 +1,6 @@
-// The tracker on hand-built scenes (test/tracker/scene.h): a floor, walls and person-like figures
+// The tracker on hand-built scenes (test/core/scene.h): a floor, walls and person-like figures
 // rendered by a tilted virtual depth camera. Known answers: where the floor and the people are.
-#include "scene.h"
+#include "../core/scene.h"
 
 #include <action_flow/people_tracker.h>
 

@@ -1,6 +1,9 @@
-// A small ray-cast depth camera for the tracker's tests: a floor, walls, and person-like shapes
-// (legs, a torso, a neck and a round head), seen by a tilted Kinect-like camera as an organized
-// XYZRGB cloud in its optical frame (x right, y down, z ahead).
+// The hand-built known-answer scenes of the tests (the virtual Kinect, synth, renders everything
+// else): a small ray-cast depth camera over a floor, walls, person-like shapes (legs, a torso, a
+// neck and a round head) and textured boxes, seen by a tilted Kinect-like camera as an organized
+// XYZRGB cloud in its optical frame (x right, y down, z ahead). The rostests' waving figure
+// (renderScene, renderPerson) is made of such boxes, its forearm turned by an angle; each box's
+// texture is fixed to it, so the flow's colour matching can follow it.
 #pragma once
 
 #include <action_flow/types.h>
@@ -22,6 +25,14 @@ struct Figure
   Eigen::Vector2f feet = Eigen::Vector2f(0, 3);
   float height = 1.75f;
   std::uint8_t r = 200, g = 60, b = 60;
+};
+
+/** A box with a texture fixed to it: its corners @p lo, @p hi in its own frame, @p pose: own frame -> world. */
+struct Box
+{
+  Eigen::Affine3f pose = Eigen::Affine3f::Identity();
+  Eigen::Vector3f lo, hi;
+  Eigen::Vector3f rgb;
 };
 
 /** A vertical wall through two floor points, from z0 to z1. */
@@ -61,7 +72,7 @@ public:
    * @p noise: depth noise (m, standard deviation), seeded by @p seed.
    */
   Cloud render(const std::vector<Figure>& people, bool floor = true, const std::vector<Wall>& walls = {},
-               float noise = 0.0f, unsigned seed = 1) const
+               float noise = 0.0f, unsigned seed = 1, const std::vector<Box>& boxes = {}) const
   {
     Cloud c;
     c.width = width_;
@@ -93,6 +104,8 @@ public:
           hitWall(w, d, best, colour);
         for (const Figure& f : people)
           hitFigure(f, d, best, colour);
+        for (const Box& b : boxes)
+          hitBox(b, d, best, colour);
         PointT& p = c.at(u, v);
         if (!std::isfinite(best) || best * 1.0f > 8.0f)
         {
@@ -158,6 +171,38 @@ private:
     hitSphere(Eigen::Vector3f(x, y, H - 0.11f), 0.11f, d, best, colour, skin);
   }
 
+  // Ray-box intersection in the box's frame (slab method); the texture: stripes plus a fixed pattern.
+  void hitBox(const Box& b, const Eigen::Vector3f& dir, float& best, Eigen::Vector3i& colour) const
+  {
+    const Eigen::Affine3f inv = b.pose.inverse();
+    const Eigen::Vector3f o = inv * centre_, d = inv.linear() * dir;
+    float t0 = 0.0f, t1 = std::numeric_limits<float>::infinity();
+    for (int i = 0; i < 3; ++i)
+    {
+      if (std::abs(d[i]) < 1e-9f)
+      {
+        if (o[i] < b.lo[i] || o[i] > b.hi[i])
+          return;
+        continue;
+      }
+      float a = (b.lo[i] - o[i]) / d[i], c = (b.hi[i] - o[i]) / d[i];
+      if (a > c)
+        std::swap(a, c);
+      t0 = std::max(t0, a);
+      t1 = std::min(t1, c);
+      if (t0 > t1)
+        return;
+    }
+    if (!(t0 > 0 && t0 < best))
+      return;
+    best = t0;
+    const Eigen::Vector3f local = o + t0 * d;
+    const int stripe = static_cast<int>(std::floor((local.y() - b.lo.y()) / 0.06f)) % 2 ? 40 : 0;
+    const float pattern = 20.0f * std::sin(local.x() * 61.0f) * std::cos(local.y() * 47.0f + local.z() * 53.0f);
+    for (int k = 0; k < 3; ++k)
+      colour[k] = static_cast<int>(std::min(255.0f, std::max(0.0f, b.rgb[k] - stripe + pattern)));
+  }
+
   void hitWall(const Wall& w, const Eigen::Vector3f& d, float& best, Eigen::Vector3i& colour) const
   {
     const Eigen::Vector2f e = w.b - w.a;
@@ -180,6 +225,63 @@ private:
   Eigen::Vector3f centre_;
   Eigen::Matrix3f axes_;  // columns: camera x, y, z in the world
 };
+
+/** The rostests' scene: a figure of boxes on a floor in front of a level camera, waving its right forearm. */
+struct SceneOptions
+{
+  int width = 320, height = 240;
+  float focal = 262.5f;        // Kinect v1 at 320x240
+  float camera_height = 1.2f;  // above the floor
+  float distance = 2.5f;       // the person's distance ahead
+  float person_x = 0.0f;       // their lateral offset
+  bool floor = true;
+  bool person = true;
+};
+
+/** The person's height in the scene (top of the head above the floor). */
+constexpr float kPersonHeight = 1.75f;
+
+/** The figure's boxes with the forearm at @p angle (rad), in the world (x right, y ahead, z up). */
+inline std::vector<Box> wavingFigure(const SceneOptions& o, float angle)
+{
+  // The figure's frame: origin on the floor under it, x right, y up, z toward the camera.
+  Eigen::Affine3f body = Eigen::Affine3f::Identity();
+  body.linear() << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  body.translation() = Eigen::Vector3f(o.person_x, o.distance, 0.0f);
+  const Eigen::Affine3f id = Eigen::Affine3f::Identity();
+  const auto box = [&](Eigen::Vector3f lo, Eigen::Vector3f hi, Eigen::Vector3f rgb, const Eigen::Affine3f& local) {
+    return Box{ body * local, lo, hi, rgb };
+  };
+  const Eigen::Affine3f forearm =
+      Eigen::Translation3f(0.45f, 1.14f, 0.0f) * Eigen::AngleAxisf(angle, Eigen::Vector3f::UnitZ());
+  return { box({ -0.18f, 0.0f, -0.1f }, { 0.18f, 0.85f, 0.1f }, { 40, 40, 120 }, id),        // legs
+           box({ -0.2f, 0.85f, -0.1f }, { 0.2f, 1.45f, 0.1f }, { 200, 40, 40 }, id),         // torso
+           box({ -0.1f, 1.5f, -0.1f }, { 0.1f, 1.75f, 0.1f }, { 220, 170, 140 }, id),        // head
+           box({ -0.45f, 1.1f, -0.04f }, { -0.2f, 1.18f, 0.04f }, { 200, 40, 40 }, id),      // left arm
+           box({ 0.2f, 1.1f, -0.04f }, { 0.45f, 1.18f, 0.04f }, { 200, 40, 40 }, id),        // right upper arm
+           box({ 0.0f, -0.04f, -0.04f }, { 0.3f, 0.04f, 0.04f }, { 220, 170, 140 }, forearm) };
+}
+
+/** The scene with the forearm at @p angle, as the level camera's organized cloud. */
+inline Cloud renderScene(const SceneOptions& o, float angle)
+{
+  const SceneCamera camera(o.camera_height, 0.0f, o.width, o.height, o.focal);
+  return camera.render({}, o.floor, {}, 0.0f, 1, o.person ? wavingFigure(o, angle) : std::vector<Box>());
+}
+
+/** The person's points only (no floor, no missing points), for publishing person clouds directly. */
+inline Cloud renderPerson(const SceneOptions& o, float angle)
+{
+  SceneOptions only = o;
+  only.floor = false;
+  only.person = true;
+  const Cloud all = renderScene(only, angle);
+  Cloud person;
+  for (const PointT& p : all.points)
+    if (std::isfinite(p.z))
+      person.push_back(p);
+  return person;
+}
 
 }  // namespace test
 }  // namespace action_flow
