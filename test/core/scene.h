@@ -56,6 +56,9 @@ public:
     axes_.col(2) = z;
   }
 
+  /** The floor's checker colours (RGB). */
+  Eigen::Vector3i floor_light = Eigen::Vector3i(120, 120, 110), floor_dark = Eigen::Vector3i(90, 90, 85);
+
   /** World point -> camera optical frame. */
   Eigen::Vector3f toCamera(const Eigen::Vector3f& w) const { return axes_.transpose() * (w - centre_); }
   /** Camera optical frame -> world. */
@@ -97,7 +100,7 @@ public:
           {
             best = t;
             const int checker = (static_cast<int>(std::floor(p.x() * 2)) + static_cast<int>(std::floor(p.y() * 2))) & 1;
-            colour = checker ? Eigen::Vector3i(120, 120, 110) : Eigen::Vector3i(90, 90, 85);
+            colour = checker ? floor_light : floor_dark;
           }
         }
         for (const Wall& w : walls)
@@ -265,7 +268,9 @@ inline std::vector<Box> wavingFigure(const SceneOptions& o, float angle)
 /** The scene with the forearm at @p angle, as the level camera's organized cloud. */
 inline Cloud renderScene(const SceneOptions& o, float angle)
 {
-  const SceneCamera camera(o.camera_height, 0.0f, o.width, o.height, o.focal);
+  SceneCamera camera(o.camera_height, 0.0f, o.width, o.height, o.focal);
+  camera.floor_light = Eigen::Vector3i(150, 150, 150);  // a grey floor: the annotator test reads it back
+  camera.floor_dark = Eigen::Vector3i(110, 110, 110);
   return camera.render({}, o.floor, {}, 0.0f, 1, o.person ? wavingFigure(o, angle) : std::vector<Box>());
 }
 
