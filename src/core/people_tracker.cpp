@@ -1,7 +1,7 @@
 #include <action_flow/facing.h>
 #include <action_flow/people_tracker.h>
-#include <action_flow/tracker_assignment.h>
-#include <action_flow/tracker_detector.h>
+#include "tracker_assignment.h"
+#include "tracker_detector.h"
 
 #include <cmath>
 #include <stdexcept>

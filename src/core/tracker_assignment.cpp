@@ -1,4 +1,4 @@
-#include <action_flow/tracker_assignment.h>
+#include "tracker_assignment.h"
 
 #include <Eigen/LU>
 

@@ -1,4 +1,4 @@
-#include <action_flow/tracker_clustering.h>
+#include "tracker_clustering.h"
 
 #include <cmath>
 #include <limits>

@@ -1,6 +1,6 @@
-#include <action_flow/tracker_detector.h>
-#include <action_flow/tracker_clustering.h>
-#include <action_flow/tracker_walls.h>
+#include "tracker_detector.h"
+#include "tracker_clustering.h"
+#include "tracker_walls.h"
 
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/people/head_based_subcluster.h>

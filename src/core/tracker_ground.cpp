@@ -1,4 +1,4 @@
-#include <action_flow/tracker_ground.h>
+#include "tracker_ground.h"
 
 #include <pcl/sample_consensus/ransac.h>
 #include <pcl/sample_consensus/sac_model_perpendicular_plane.h>

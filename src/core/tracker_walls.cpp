@@ -1,4 +1,4 @@
-#include <action_flow/tracker_walls.h>
+#include "tracker_walls.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include <action_flow/detection_scoring.h>
+#include "detection_scoring.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include <action_flow/evaluation.h>
+#include "evaluation.h"
 
 #include <action_flow/files.h>
 #include <action_flow/posture_flow.h>

@@ -1,4 +1,4 @@
-#include <action_flow/feature_extractor.h>
+#include "feature_extractor.h"
 
 #include <action_flow/person_pipeline.h>
 #include <action_flow/track_table.h>

@@ -1,4 +1,4 @@
-#include <action_flow/stream_scoring.h>
+#include "stream_scoring.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // CLEAR MOT and identity scores of a tracked sequence against its truth (tracking_metrics.h).
-#include <action_flow/tracking_metrics.h>
+#include "tracking_metrics.h"
 
-#include <action_flow/tracker_assignment.h>
+#include "../core/tracker_assignment.h"
 
 #include <algorithm>
 #include <cmath>

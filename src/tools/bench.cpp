@@ -14,7 +14,7 @@
 #include <action_flow/posture_flow.h>
 #include <action_flow/pca.h>
 #include <action_flow/sequence_descriptor.h>
-#include <action_flow/evaluation.h>
+#include "../eval/evaluation.h"
 
 #include <dirent.h>
 #include <action_flow/synth/synth.h>

@@ -12,6 +12,9 @@
 #include <boost/program_options.hpp>
 
 #include <cstdio>
+#include <unistd.h>
+#include <mutex>
+#include <chrono>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -77,6 +80,50 @@ inline int runTool(const char* tool, const std::function<int()>& body)
     return 1;
   }
 }
+
+/**
+ * Progress on stderr, for every tool: on a terminal one line redrawn in place (at most four times a
+ * second); in a log (not a terminal) whole lines, at most one every @p log_every seconds, and the
+ * last one always. Thread-safe.
+ */
+class ProgressLine
+{
+public:
+  explicit ProgressLine(double log_every = 10.0)
+    : tty_(::isatty(STDERR_FILENO) != 0), log_every_(log_every), start_(std::chrono::steady_clock::now())
+  {
+  }
+  /** Shows @p text (made only when it is shown) now or, if the last was shown too recently, not at all. */
+  void show(const std::function<std::string()>& text, bool last = false)
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double t = seconds();
+    if (!last && shown_ >= 0 && t - shown_ < (tty_ ? 0.25 : log_every_))
+      return;
+    shown_ = t;
+    const std::string line = text();
+    open_ = tty_ && !last;
+    std::fprintf(stderr, "%s%s%s", tty_ ? "\r" : "", line.c_str(), open_ ? "" : "\n");
+    std::fflush(stderr);
+  }
+  /** Ends a line left open on a terminal (work stopped before its last line), so what follows starts afresh. */
+  void end()
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (open_)
+      std::fputc('\n', stderr);
+    open_ = false;
+  }
+  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+private:
+  bool tty_;
+  double log_every_;
+  std::chrono::steady_clock::time_point start_;
+  std::mutex mutex_;
+  double shown_ = -1.0;
+  bool open_ = false;
+};
 
 /** Runs @p worker on max(1, @p jobs) threads at once and waits for all of them (the workers take
  *  their items from a shared counter and keep their own error; nothing may escape a worker). */

@@ -3,7 +3,7 @@
 // height and pitch, action and visible floor, and where the errors come from.
 #pragma once
 
-#include <action_flow/detection_scoring.h>
+#include "../eval/detection_scoring.h"
 #include <action_flow/people_tracker.h>
 #include <action_flow/synth/synth.h>
 

@@ -7,7 +7,7 @@
 #include <action_flow/files.h>
 #include <action_flow/people_tracker.h>
 #include <action_flow/synth/crowd.h>
-#include <action_flow/tracking_metrics.h>
+#include "../eval/tracking_metrics.h"
 
 #include <nlohmann/json.hpp>
 #include <ros/package.h>

@@ -100,8 +100,7 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
   std::atomic<std::size_t> next{ 0 }, done{ 0 }, cached{ 0 };
   std::mutex print;
   std::string error;
-  const auto start = std::chrono::steady_clock::now();
-  const bool terminal = ::isatty(STDERR_FILENO) != 0;
+  ProgressLine progress;
   const auto worker = [&]() {
     for (std::size_t s = next++; s < samples.size() && !g_stop; s = next++)
     {
@@ -135,21 +134,19 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
         g_stop = true;
       }
       const std::size_t n = ++done;
-      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const double eta = secs / n * (samples.size() - n);
-      std::lock_guard<std::mutex> lock(print);
-      // On a terminal one line redrawn; in a log a whole line every 5 % (and at the end).
-      if (terminal)
-        std::fprintf(stderr, "\r  descriptors: %zu/%zu samples (%zu cached)  %.0f s elapsed, about %.0f s left   ", n,
-                     samples.size(), cached.load(), secs, eta);
-      else if (n == samples.size() || n % std::max<std::size_t>(1, samples.size() / 20) == 0)
-        std::fprintf(stderr, "  descriptors: %zu/%zu samples (%zu cached)  %.0f s elapsed, about %.0f s left\n", n,
-                     samples.size(), cached.load(), secs, eta);
+      progress.show(
+          [&] {
+            const double secs = progress.seconds();
+            char line[160];
+            std::snprintf(line, sizeof line, "  descriptors: %zu/%zu samples (%zu cached)  %.0f s elapsed, about %.0f s left", n,
+                          samples.size(), cached.load(), secs, secs / n * (samples.size() - n));
+            return std::string(line);
+          },
+          n == samples.size());
     }
   };
   runWorkers(jobs, worker);
-  if (terminal)
-    std::fprintf(stderr, "\n");
+  progress.end();
   // From here on nothing is half-written (reports are renamed into place): Ctrl-C ends the tool.
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);

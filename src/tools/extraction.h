@@ -4,7 +4,7 @@
 
 #include "sample_sources.h"
 
-#include <action_flow/evaluation.h>
+#include "../eval/evaluation.h"
 #include <action_flow/people_tracker.h>
 
 #include <stdexcept>

@@ -5,9 +5,9 @@
 
 #include "sample_sources.h"
 
-#include <action_flow/evaluation.h>
+#include "../eval/evaluation.h"
 #include <action_flow/recognition_policy.h>
-#include <action_flow/stream_scoring.h>
+#include "../eval/stream_scoring.h"
 
 #include <nlohmann/json.hpp>
 

@@ -113,13 +113,11 @@ std::string fmtTime(double s)
   return buf;
 }
 
+// Samples and frames done, shown as a bar (ProgressLine: redrawn on a terminal, a line every 10 s in a log).
 class Progress
 {
 public:
-  Progress(size_t samples, bool quiet)
-    : samples_(samples), quiet_(quiet), tty_(isatty(2) != 0), start_(std::chrono::steady_clock::now())
-  {
-  }
+  Progress(size_t samples, bool quiet) : samples_(samples), quiet_(quiet) {}
   void frame()
   {
     ++frames_;
@@ -131,10 +129,7 @@ public:
     draw(false);
   }
   void finish() { draw(true); }
-  double seconds() const
-  {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
+  double seconds() const { return line_.seconds(); }
   long frames() const { return frames_; }
 
 private:
@@ -142,31 +137,27 @@ private:
   {
     if (quiet_)
       return;
-    std::lock_guard<std::mutex> lock(mutex_);
-    const double t = seconds();
-    // A terminal gets a bar redrawn in place; a log gets a line every 10 s.
-    if (!last && t - last_draw_ < (tty_ ? 0.25 : 10.0))
-      return;
-    last_draw_ = t;
-    const size_t done = done_;
-    const int width = 30;
-    const int fill = samples_ ? int(width * done / samples_) : width;
-    const double eta = done ? t / done * (samples_ - done) : 0.0;
-    std::fprintf(stderr, "%s[%s%s] %zu/%zu samples, %ld frames, %.1f frames/s, elapsed %s, eta %s ",
-                 tty_ ? "\r" : "", std::string(size_t(fill), '#').c_str(), std::string(size_t(width - fill), '.').c_str(), done,
-                 samples_, frames_.load(), t > 0 ? frames_ / t : 0.0, fmtTime(t).c_str(),
-                 done ? fmtTime(eta).c_str() : "?");
-    if (last || !tty_)
-      std::fprintf(stderr, "\n");
-    std::fflush(stderr);
+    line_.show(
+        [&] {
+          const double t = seconds();
+          const size_t done = done_;
+          const int width = 30;
+          const int fill = samples_ ? int(width * done / samples_) : width;
+          const double eta = done ? t / done * (samples_ - done) : 0.0;
+          char buf[256];
+          std::snprintf(buf, sizeof buf, "[%s%s] %zu/%zu samples, %ld frames, %.1f frames/s, elapsed %s, eta %s ",
+                        std::string(size_t(fill), '#').c_str(), std::string(size_t(width - fill), '.').c_str(), done,
+                        samples_, frames_.load(), t > 0 ? frames_ / t : 0.0, fmtTime(t).c_str(),
+                        done ? fmtTime(eta).c_str() : "?");
+          return std::string(buf);
+        },
+        last);
   }
   size_t samples_;
-  bool quiet_, tty_;
-  std::chrono::steady_clock::time_point start_;
+  bool quiet_;
   std::atomic<size_t> done_{ 0 };
   std::atomic<long> frames_{ 0 };
-  std::mutex mutex_;
-  double last_draw_ = -1;
+  action_flow::tools::ProgressLine line_;
 };
 
 /** Renders a crowd scene: its bag and truth files (or previews); returns its frames, -1 if interrupted. */

@@ -1,5 +1,5 @@
 // Known answers for the detection scoring of evaluate --protocol detection.
-#include <action_flow/detection_scoring.h>
+#include "../../src/eval/detection_scoring.h"
 
 #include <gtest/gtest.h>
 

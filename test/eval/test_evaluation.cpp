@@ -1,5 +1,5 @@
 // Dataset index, protocols, experiments and the descriptor cache.
-#include <action_flow/evaluation.h>
+#include "../../src/eval/evaluation.h"
 #include <action_flow/posture_flow.h>
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // the default: on a small fixed set of hand-built moving people its frame descriptors, PCA basis and
 // answers must stay those recorded when it was set aside as the reference (this file's numbers).
 // A change to the flow estimation, the grid, the frame selection, the PCA or the 1-NN shows here.
-#include <action_flow/evaluation.h>
+#include "../../src/eval/evaluation.h"
 #include <action_flow/person_pipeline.h>
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // Scoring online recognition on continuous streams: known answers worked out by hand.
-#include <action_flow/stream_scoring.h>
+#include "../../src/eval/stream_scoring.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The MOT scores on hand-made truth and predictions whose MOTA, IDF1, switches and the rest are
 // worked out by hand (known answers).
-#include <action_flow/tracking_metrics.h>
+#include "../../src/eval/tracking_metrics.h"
 
 #include <gtest/gtest.h>
 

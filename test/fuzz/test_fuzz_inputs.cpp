@@ -9,8 +9,8 @@
 #include "../../src/tools/sample_sources.h"
 
 #include <action_flow/action_model.h>
-#include <action_flow/evaluation.h>
-#include <action_flow/feature_extractor.h>
+#include "../../src/eval/evaluation.h"
+#include "../../src/eval/feature_extractor.h"
 #include <action_flow/files.h>
 #include <action_flow/people_tracker.h>
 #include <action_flow/ros/input_checks.h>

@@ -4,7 +4,7 @@
 #include "../core/scene.h"
 
 #include <action_flow/people_tracker.h>
-#include <action_flow/tracking_metrics.h>
+#include "../../src/eval/tracking_metrics.h"
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 #include "../../src/tools/cli.h"
 
 #include <action_flow/people_tracker.h>
-#include <action_flow/tracker_detector.h>
+#include "../../src/core/tracker_detector.h"
 
 #include <pcl/io/png_io.h>
 

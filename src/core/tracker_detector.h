@@ -7,7 +7,7 @@
 #pragma once
 
 #include <action_flow/people_tracker.h>
-#include <action_flow/tracker_ground.h>
+#include "tracker_ground.h"
 
 #include <boost/make_shared.hpp>
 #include <boost/shared_ptr.hpp>
