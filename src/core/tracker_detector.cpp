@@ -400,6 +400,353 @@ bool PeopleDetector::setGroundPrior(const Eigen::Vector4f& plane, const Eigen::V
   return impl_->ground.setPrior(plane, camera);
 }
 
+namespace
+{
+// ---- the steps of PeopleDetector::detect, in order ----
+
+// The level frame: y down along the ground normal, z the mean horizontal viewing direction, origin
+// at the camera (rows: its axes in input coordinates). pcl::people reads heights and head maxima
+// along a camera's y and x axes, so its classes get the cloud in this frame whatever the camera's
+// tilt or the input frame.
+Eigen::Matrix3f levelFrame(const Cloud& voxels, const Eigen::Vector3f& origin, const Eigen::Vector3f& up)
+{
+  Eigen::Vector3f mean_view = Eigen::Vector3f::Zero();
+  for (const auto& p : voxels.points)
+    mean_view += p.getVector3fMap() - origin;
+  Eigen::Vector3f ahead = mean_view - mean_view.dot(up) * up;
+  if (!(ahead.norm() > 1e-3f))
+    ahead = up.unitOrthogonal();
+  ahead.normalize();
+  Eigen::Matrix3f R;  // rows: level x, y, z in input coordinates
+  const Eigen::Vector3f down = -up;
+  R.row(0) = down.cross(ahead).transpose();
+  R.row(1) = down.transpose();
+  R.row(2) = ahead.transpose();
+  return R;
+}
+
+// The detection voxels above the ground (and below the heads' reach: not ceilings, upper walls), in
+// the input frame (@p above) and the level frame (@p level), without those on a wall (@p walls).
+// False when too few are left for a person.
+bool pointsAboveGround(const Cloud& voxels, const Eigen::Vector4f& ground, const Eigen::Vector3f& origin,
+                       const Eigen::Matrix3f& R, const TrackerParams& params, Cloud& above, Cloud& level,
+                       std::vector<Eigen::Vector4f>& walls)
+{
+  above.reserve(voxels.size());
+  level.reserve(voxels.size());
+  for (const auto& p : voxels.points)
+  {
+    // Far above any head (ceilings, upper walls) nothing can be a person; cut there, the height
+    // limits still reject whatever reaches the cut.
+    const float h = heightAbove(ground, p.getVector3fMap());
+    if (h <= params.ground_tolerance || h > params.max_height + kAboveHeads)
+      continue;
+    above.push_back(p);
+    PointT q = p;
+    q.getVector3fMap() = R * (p.getVector3fMap() - origin);
+    level.push_back(q);
+  }
+  if (above.size() < static_cast<std::size_t>(params.min_points))
+    return false;
+
+  // Walls: their points go before clustering (a person close in front of one would join it).
+  if (params.remove_walls)
+  {
+    WallParams wp;
+    wp.voxel = params.detection_voxel_size;
+    wp.inlier_distance = std::max(0.06f, params.detection_voxel_size);
+    walls = findWalls(above, ground, origin, wp);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < above.size(); ++i)
+      if (!onAWall(walls, above[i].getVector3fMap()))
+      {
+        above[kept] = above[i];
+        level[kept++] = level[i];
+      }
+    above.resize(kept);
+    level.resize(kept);
+    if (above.size() < static_cast<std::size_t>(params.min_points))
+      return false;
+  }
+  return true;
+}
+
+
+// pcl::people's head-based sub-clustering: merges parts close on the floor (a head cut off from its
+// body), splits clusters with several head maxima (people side by side), and keeps clusters whose
+// top lies between the height limits (down to the tracked limit: a bending person may continue a
+// track, judged later). @p level: the points in the level frame (y down along the ground normal).
+// (PCL's classes take non-const arguments, hence the plain references here and below.)
+std::vector<pcl::people::PersonCluster<PointT>> headSubclusters(Cloud::Ptr level, std::vector<pcl::PointIndices>& clusters,
+                                                                float camera_height, const TrackerParams& params)
+{
+  std::vector<pcl::people::PersonCluster<PointT>> people;
+  {
+    pcl::people::HeadBasedSubclustering<PointT> sub;
+    Eigen::VectorXf level_ground(4);
+    level_ground << 0.0f, -1.0f, 0.0f, camera_height;
+    sub.setInputCloud(level);
+    sub.setGround(level_ground);
+    sub.setInitialClusters(clusters);
+    // Down to the tracked limit: a bending person may continue a track (judged below).
+    sub.setHeightLimits(params.tracked_min_height, params.max_height);
+    sub.setDimensionLimits(params.min_points, std::numeric_limits<int>::max());
+    sub.setMinimumDistanceBetweenHeads(params.min_head_distance);
+    sub.setSensorPortraitOrientation(false);
+    sub.subcluster(people);
+  }
+
+  return people;
+}
+
+// pcl::people hands a point between two heads to the first head within min_head_distance (the
+// taller one): each point goes to the nearest head on the floor instead, so that each person's cloud
+// holds none of a neighbour's shoulder; points beyond a body's reach from its head (furniture it
+// touches) go to none. Returns each sub-cluster's voxels (indices into @p level).
+std::vector<pcl::Indices> assignToNearestHead(std::vector<pcl::people::PersonCluster<PointT>>& people,
+                                              const Cloud& level, float camera_height, const TrackerParams& params)
+{
+  std::vector<pcl::Indices> members(people.size());
+  {
+    std::vector<Eigen::Vector2f> heads(people.size(), Eigen::Vector2f::Zero());
+    std::vector<char> tall(people.size(), 0);  // top above min_height: only those exchange points
+    for (std::size_t k = 0; k < people.size(); ++k)
+    {
+      const auto& idx = people[k].getIndices().indices;
+      float top_y = 1e9f;
+      for (const auto i : idx)
+        top_y = std::min(top_y, level[i].y);
+      tall[k] = camera_height - top_y >= params.min_height;
+      int n = 0;
+      for (const auto i : idx)
+        if (level[i].y < top_y + 0.2f)
+        {
+          heads[k] += Eigen::Vector2f(level[i].x, level[i].z);
+          ++n;
+        }
+      heads[k] /= static_cast<float>(std::max(1, n));
+    }
+    for (std::size_t k = 0; k < people.size(); ++k)
+      for (const auto i : people[k].getIndices().indices)
+      {
+        const Eigen::Vector2f q(level[i].x, level[i].z);
+        std::size_t best = k;
+        for (std::size_t m = 0; m < people.size(); ++m)
+          if (tall[m] == tall[k] && (heads[m] - q).squaredNorm() < (heads[best] - q).squaredNorm())
+            best = m;
+        // Only between neighbours: a far-away head never takes points.
+        if (best != k && (heads[best] - q).norm() > params.min_head_distance)
+          best = k;
+        // Beyond a body's reach from its head: furniture it touches (a table in front, a shelf beside).
+        if ((heads[best] - q).norm() <= kReach)
+          members[best].push_back(i);
+      }
+  }
+
+  return members;
+}
+
+// The candidates' size limits, and a surface: a person's voxels have neighbours all around
+// (scattered points have one or two within the clustering tolerance). Clusters within the tracked_*
+// limits only are weak: they may continue a track, never start one. Also gives each kept voxel's
+// candidate (by voxel key) and the box around all of their points.
+struct Candidates
+{
+  std::vector<PersonDetection> people;
+  std::unordered_map<std::uint64_t, int> label_of_voxel;
+  Eigen::Array3f lo = Eigen::Array3f::Constant(1e30f), hi = Eigen::Array3f::Constant(-1e30f);
+};
+Candidates sizedCandidates(const std::vector<pcl::Indices>& members, const Cloud& level, const Cloud& above,
+                           const Eigen::Vector4f& ground, const RadiusGrid& grid, const TrackerParams& params)
+{
+  Candidates out;
+  std::unordered_map<std::uint64_t, int>& label_of_voxel = out.label_of_voxel;
+  Eigen::Array3f& people_lo = out.lo;
+  Eigen::Array3f& people_hi = out.hi;
+  std::vector<PersonDetection>& candidates = out.people;
+  const float inverse_leaf = 1.0f / params.detection_voxel_size;
+  for (const auto& idx : members)
+  {
+    if (static_cast<int>(idx.size()) < params.min_points)
+      continue;
+    // Counting stops at twice the threshold: enough to tell, and the searches stay short.
+    std::size_t around = 0;
+    for (const auto i : idx)
+      around += static_cast<std::size_t>(grid.countWithin(level[i].getVector3fMap(), 2 * kSurfaceNeighbours));
+    if (around < static_cast<std::size_t>(kSurfaceNeighbours) * idx.size())
+      continue;
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo, sum = Eigen::Vector3f::Zero();
+    float top = -1e9f;
+    for (const auto i : idx)
+    {
+      const Eigen::Vector3f q = level[i].getVector3fMap();
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+      sum += above[i].getVector3fMap();
+      top = std::max(top, heightAbove(ground, above[i].getVector3fMap()));
+    }
+    const float width = std::max(hi.x() - lo.x(), hi.z() - lo.z());
+    if (top < params.tracked_min_height || top > params.max_height || width < params.min_width ||
+        width > params.tracked_max_width)
+      continue;
+    PersonDetection d;
+    d.centroid = sum / static_cast<float>(idx.size());
+    d.height = top;
+    d.width = width;
+    d.voxels = static_cast<int>(idx.size());
+    d.weak = top < params.min_height || width > params.max_width;
+    const int label = static_cast<int>(candidates.size());
+    for (const auto i : idx)
+    {
+      label_of_voxel.emplace(voxelKey(above[i], inverse_leaf), label);
+      people_lo = people_lo.min(above[i].getArray3fMap());
+      people_hi = people_hi.max(above[i].getArray3fMap());
+    }
+    candidates.push_back(std::move(d));
+  }
+
+  return out;
+}
+
+// Each candidate's points at full resolution: those of @p valid falling in its detection voxels,
+// above the ground.
+void collectFullResolution(const Cloud& cloud, const pcl::Indices& valid, const Eigen::Vector4f& ground,
+                           const TrackerParams& params, Candidates& found)
+{
+  std::vector<PersonDetection>& candidates = found.people;
+  const auto& label_of_voxel = found.label_of_voxel;
+  const Eigen::Array3f& people_lo = found.lo;
+  const Eigen::Array3f& people_hi = found.hi;
+  const float inverse_leaf = 1.0f / params.detection_voxel_size;
+  if (!candidates.empty())
+  {
+    // Most of the room lies outside the people's voxels: a box test spares those the hash lookup.
+    const float leaf = params.detection_voxel_size;
+    const Eigen::Array3f lo = (people_lo * inverse_leaf).floor() * leaf - 1e-3f;
+    const Eigen::Array3f hi = ((people_hi * inverse_leaf).floor() + 1.0f) * leaf + 1e-3f;
+    for (const auto i : valid)
+    {
+      const PointT& p = cloud[i];
+      if (!(p.getArray3fMap() >= lo).all() || !(p.getArray3fMap() <= hi).all())
+        continue;
+      const auto it = label_of_voxel.find(voxelKey(p, inverse_leaf));
+      if (it != label_of_voxel.end() && heightAbove(ground, p.getVector3fMap()) > params.ground_tolerance)
+        candidates[it->second].indices.push_back(i);
+    }
+  }
+
+}
+
+// Person-likeness in the image (organized clouds): a top that is a head, not the image's edge; a
+// head that stands free of what is behind it.
+void keepFreeStanding(const Cloud& cloud, const Eigen::Vector4f& ground, const Eigen::Vector3f& origin,
+                      const std::vector<Eigen::Vector4f>& walls, const TrackerParams& params,
+                      std::vector<PersonDetection>& candidates)
+{
+  if (cloud.height > 1)
+  {
+    std::vector<PersonDetection> kept;
+    for (auto& d : candidates)
+    {
+      if (d.indices.empty())
+        continue;
+      std::uint32_t top_row = cloud.height;
+      for (const auto i : d.indices)
+        top_row = std::min(top_row, static_cast<std::uint32_t>(i / cloud.width));
+      d.top_row = static_cast<int>(top_row);
+      d.free_fraction = freeFraction(cloud, d, ground, origin, params.free_depth_step, walls);
+      if (params.reject_top_at_border && d.top_row <= kBorderRows && cutByTopBorder(cloud, d))
+        continue;
+      // Only of a new person: a bending body continuing its track has its back, not a free head, on top.
+      if (!d.weak && !(d.free_fraction >= params.min_free_fraction))
+        continue;
+      kept.push_back(std::move(d));
+    }
+    candidates.swap(kept);
+  }
+
+}
+
+// A head above shoulders: cabinets, shelves, doors and chair backs are as wide at the top as below.
+// A candidate failing it may still continue a track (weak), as one failing HOG.
+void markWideTops(const Cloud& cloud, const Eigen::Vector4f& ground, const Eigen::Vector3f& origin,
+                  const TrackerParams& params, std::vector<PersonDetection>& candidates)
+{
+  for (auto& d : candidates)
+  {
+    d.head_ratio = headRatio(cloud, d, ground, origin);
+    if (params.max_head_ratio > 0.0f && d.head_ratio > params.max_head_ratio)  // NaN: cannot tell, kept
+      d.weak = true;
+  }
+
+}
+
+// HOG confirmation (organized clouds only: it needs the image). A person failing it may still
+// continue a track (weak): HOG wants upright people, a bending one fails. Returns whether it ran.
+bool confirmWithHog(const Cloud& cloud, const Eigen::Vector4f& ground, pcl::people::PersonClassifier<pcl::RGB>* classifier,
+                    const TrackerParams& params, std::vector<PersonDetection>& candidates)
+{
+  const Eigen::Vector3f up = ground.head<3>();
+  Eigen::Matrix<float, 3, 4> P;
+  if (classifier && !candidates.empty() && fitProjection(cloud, P))
+  {
+    auto image = pcl::make_shared<pcl::PointCloud<pcl::RGB>>(cloud.width, cloud.height);
+    for (std::size_t i = 0; i < cloud.size(); ++i)
+    {
+      (*image)[i].r = cloud[i].r;
+      (*image)[i].g = cloud[i].g;
+      (*image)[i].b = cloud[i].b;
+    }
+    for (auto& d : candidates)
+    {
+      if (d.weak)
+        continue;
+      const Eigen::Vector3f foot = d.centroid - heightAbove(ground, d.centroid) * up;
+      const Eigen::Vector3f head = foot + d.height * up;
+      const Eigen::Vector3f a = P * foot.homogeneous(), b = P * head.homogeneous(),
+                            c = P * (0.5f * (foot + head)).homogeneous();
+      if (!(a.z() > 0 && b.z() > 0 && c.z() > 0))
+        continue;  // behind the camera's image plane: cannot be judged, kept
+      const float pixel_height = (a.hnormalized() - b.hnormalized()).norm();
+      d.hog_confidence = classifier->evaluate(pixel_height, c.x() / c.z(), c.y() / c.z(), image);
+      if (d.hog_confidence < params.hog_min_confidence)
+        d.weak = true;
+    }
+    return true;
+  }
+  return false;
+}
+
+// A bending body often falls apart into two low clusters (back and head, legs and arms): weak
+// candidates this close on the floor are one body.
+void mergeFragments(const Eigen::Vector3f& up, std::vector<PersonDetection>& candidates)
+{
+  for (std::size_t a = 0; a < candidates.size(); ++a)
+  {
+    if (!candidates[a].weak)
+      continue;
+    for (std::size_t b = a + 1; b < candidates.size();)
+    {
+      PersonDetection& p = candidates[a];
+      const PersonDetection& q = candidates[b];
+      const Eigen::Vector3f d = q.centroid - p.centroid;
+      if (!q.weak || (d - d.dot(up) * up).norm() > kFragmentDistance)
+      {
+        ++b;
+        continue;
+      }
+      const float wp = static_cast<float>(p.voxels), wq = static_cast<float>(q.voxels);
+      p.centroid = (wp * p.centroid + wq * q.centroid) / (wp + wq);
+      p.height = std::max(p.height, q.height);
+      p.width = std::max({p.width, q.width, (d - d.dot(up) * up).norm()});
+      p.voxels += q.voxels;
+      p.indices.insert(p.indices.end(), q.indices.begin(), q.indices.end());
+      candidates.erase(candidates.begin() + static_cast<std::ptrdiff_t>(b));
+    }
+  }
+}
+}  // namespace
+
 DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f& origin)
 {
   DetectionResult out;
@@ -466,62 +813,14 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   const Eigen::Vector3f up = ground.head<3>();
   const float camera_height = heightAbove(ground, origin);
 
-  // ---- a level frame: y down along the ground normal, z the mean horizontal viewing direction,
-  // origin at the camera. pcl::people reads heights and head maxima along a camera's y and x
-  // axes, so its classes get the cloud in this frame whatever the camera's tilt or the input frame.
-  Eigen::Vector3f mean_view = Eigen::Vector3f::Zero();
-  for (const auto& p : voxels->points)
-    mean_view += p.getVector3fMap() - origin;
-  Eigen::Vector3f ahead = mean_view - mean_view.dot(up) * up;
-  if (!(ahead.norm() > 1e-3f))
-    ahead = up.unitOrthogonal();
-  ahead.normalize();
-  Eigen::Matrix3f R;  // rows: level x, y, z in input coordinates
-  const Eigen::Vector3f down = -up;
-  R.row(0) = down.cross(ahead).transpose();
-  R.row(1) = down.transpose();
-  R.row(2) = ahead.transpose();
+  const Eigen::Matrix3f R = levelFrame(*voxels, origin, up);
 
-  // ---- ground removal (also what lies below it: noise, reflections) ----
+  // ---- ground removal (also what lies below it: noise, reflections), then walls ----
   auto above = pcl::make_shared<Cloud>();  // input frame
   auto level = pcl::make_shared<Cloud>();  // the same points in the level frame
-  above->reserve(voxels->size());
-  level->reserve(voxels->size());
-  for (const auto& p : voxels->points)
-  {
-    // Far above any head (ceilings, upper walls) nothing can be a person; cut there, the height
-    // limits still reject whatever reaches the cut.
-    const float h = heightAbove(ground, p.getVector3fMap());
-    if (h <= params_.ground_tolerance || h > params_.max_height + kAboveHeads)
-      continue;
-    above->push_back(p);
-    PointT q = p;
-    q.getVector3fMap() = R * (p.getVector3fMap() - origin);
-    level->push_back(q);
-  }
-  if (above->size() < static_cast<std::size_t>(params_.min_points))
-    return out;
-
-  // ---- walls: their points go before clustering (a person close in front of one would join it) ----
   std::vector<Eigen::Vector4f> walls;
-  if (params_.remove_walls)
-  {
-    WallParams wp;
-    wp.voxel = params_.detection_voxel_size;
-    wp.inlier_distance = std::max(0.06f, params_.detection_voxel_size);
-    walls = findWalls(*above, ground, origin, wp);
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < above->size(); ++i)
-      if (!onAWall(walls, (*above)[i].getVector3fMap()))
-      {
-        (*above)[kept] = (*above)[i];
-        (*level)[kept++] = (*level)[i];
-      }
-    above->resize(kept);
-    level->resize(kept);
-    if (above->size() < static_cast<std::size_t>(params_.min_points))
-      return out;
-  }
+  if (!pointsAboveGround(*voxels, ground, origin, R, params_, *above, *level, walls))
+    return out;
 
   // ---- Euclidean clusters ----
   RadiusGrid& grid = impl_->grid;
@@ -530,218 +829,18 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   if (clusters.empty())
     return out;
 
-  // ---- pcl::people's head-based sub-clustering: merges parts close on the floor (a head cut off
-  // from its body), splits clusters with several head maxima (people side by side), and keeps
-  // clusters whose top lies between the height limits ----
-  std::vector<pcl::people::PersonCluster<PointT>> people;
-  {
-    pcl::people::HeadBasedSubclustering<PointT> sub;
-    Eigen::VectorXf level_ground(4);
-    level_ground << 0.0f, -1.0f, 0.0f, camera_height;
-    sub.setInputCloud(level);
-    sub.setGround(level_ground);
-    sub.setInitialClusters(clusters);
-    // Down to the tracked limit: a bending person may continue a track (judged below).
-    sub.setHeightLimits(params_.tracked_min_height, params_.max_height);
-    sub.setDimensionLimits(params_.min_points, std::numeric_limits<int>::max());
-    sub.setMinimumDistanceBetweenHeads(params_.min_head_distance);
-    sub.setSensorPortraitOrientation(false);
-    sub.subcluster(people);
-  }
+  // ---- heads: sub-clusters, each voxel with its nearest head ----
+  std::vector<pcl::people::PersonCluster<PointT>> heads = headSubclusters(level, clusters, camera_height, params_);
+  const std::vector<pcl::Indices> members = assignToNearestHead(heads, *level, camera_height, params_);
 
-  // ---- pcl::people hands a point between two heads to the first head within min_head_distance
-  // (the taller one): give it to the nearest head on the floor instead, so that each person's
-  // cloud holds none of a neighbour's shoulder ----
-  std::vector<pcl::Indices> members(people.size());
-  {
-    std::vector<Eigen::Vector2f> heads(people.size(), Eigen::Vector2f::Zero());
-    std::vector<char> tall(people.size(), 0);  // top above min_height: only those exchange points
-    for (std::size_t k = 0; k < people.size(); ++k)
-    {
-      const auto& idx = people[k].getIndices().indices;
-      float top_y = 1e9f;
-      for (const auto i : idx)
-        top_y = std::min(top_y, (*level)[i].y);
-      tall[k] = camera_height - top_y >= params_.min_height;
-      int n = 0;
-      for (const auto i : idx)
-        if ((*level)[i].y < top_y + 0.2f)
-        {
-          heads[k] += Eigen::Vector2f((*level)[i].x, (*level)[i].z);
-          ++n;
-        }
-      heads[k] /= static_cast<float>(std::max(1, n));
-    }
-    for (std::size_t k = 0; k < people.size(); ++k)
-      for (const auto i : people[k].getIndices().indices)
-      {
-        const Eigen::Vector2f q((*level)[i].x, (*level)[i].z);
-        std::size_t best = k;
-        for (std::size_t m = 0; m < people.size(); ++m)
-          if (tall[m] == tall[k] && (heads[m] - q).squaredNorm() < (heads[best] - q).squaredNorm())
-            best = m;
-        // Only between neighbours: a far-away head never takes points.
-        if (best != k && (heads[best] - q).norm() > params_.min_head_distance)
-          best = k;
-        // Beyond a body's reach from its head: furniture it touches (a table in front, a shelf beside).
-        if ((heads[best] - q).norm() <= kReach)
-          members[best].push_back(i);
-      }
-  }
-
-  // ---- size limits, and a surface: a person's voxels have neighbours all around (scattered
-  // points have one or two within the clustering tolerance). Clusters within the tracked_* limits
-  // only are weak: they may continue a track, never start one ----
-  std::unordered_map<std::uint64_t, int> label_of_voxel;
-  Eigen::Array3f people_lo = Eigen::Array3f::Constant(1e30f), people_hi = -people_lo;  // their voxels' points
-  const float inverse_leaf = 1.0f / params_.detection_voxel_size;
-  std::vector<PersonDetection> candidates;
-  for (const auto& idx : members)
-  {
-    if (static_cast<int>(idx.size()) < params_.min_points)
-      continue;
-    // Counting stops at twice the threshold: enough to tell, and the searches stay short.
-    std::size_t around = 0;
-    for (const auto i : idx)
-      around += static_cast<std::size_t>(grid.countWithin((*level)[i].getVector3fMap(), 2 * kSurfaceNeighbours));
-    if (around < static_cast<std::size_t>(kSurfaceNeighbours) * idx.size())
-      continue;
-    Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9f), hi = -lo, sum = Eigen::Vector3f::Zero();
-    float top = -1e9f;
-    for (const auto i : idx)
-    {
-      const Eigen::Vector3f q = (*level)[i].getVector3fMap();
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
-      sum += (*above)[i].getVector3fMap();
-      top = std::max(top, heightAbove(ground, (*above)[i].getVector3fMap()));
-    }
-    const float width = std::max(hi.x() - lo.x(), hi.z() - lo.z());
-    if (top < params_.tracked_min_height || top > params_.max_height || width < params_.min_width ||
-        width > params_.tracked_max_width)
-      continue;
-    PersonDetection d;
-    d.centroid = sum / static_cast<float>(idx.size());
-    d.height = top;
-    d.width = width;
-    d.voxels = static_cast<int>(idx.size());
-    d.weak = top < params_.min_height || width > params_.max_width;
-    const int label = static_cast<int>(candidates.size());
-    for (const auto i : idx)
-    {
-      label_of_voxel.emplace(voxelKey((*above)[i], inverse_leaf), label);
-      people_lo = people_lo.min((*above)[i].getArray3fMap());
-      people_hi = people_hi.max((*above)[i].getArray3fMap());
-    }
-    candidates.push_back(std::move(d));
-  }
-
-  // ---- each candidate's points at full resolution: those falling in its detection voxels, above
-  // the ground ----
-  if (!candidates.empty())
-  {
-    // Most of the room lies outside the people's voxels: a box test spares those the hash lookup.
-    const float leaf = params_.detection_voxel_size;
-    const Eigen::Array3f lo = (people_lo * inverse_leaf).floor() * leaf - 1e-3f;
-    const Eigen::Array3f hi = ((people_hi * inverse_leaf).floor() + 1.0f) * leaf + 1e-3f;
-    for (const auto i : valid)
-    {
-      const PointT& p = cloud[i];
-      if (!(p.getArray3fMap() >= lo).all() || !(p.getArray3fMap() <= hi).all())
-        continue;
-      const auto it = label_of_voxel.find(voxelKey(p, inverse_leaf));
-      if (it != label_of_voxel.end() && heightAbove(ground, p.getVector3fMap()) > params_.ground_tolerance)
-        candidates[it->second].indices.push_back(i);
-    }
-  }
-
-  // ---- person-likeness in the image (organized clouds): a top that is a head, not the image's
-  // edge; a head that stands free of what is behind it ----
-  if (cloud.height > 1)
-  {
-    std::vector<PersonDetection> kept;
-    for (auto& d : candidates)
-    {
-      if (d.indices.empty())
-        continue;
-      std::uint32_t top_row = cloud.height;
-      for (const auto i : d.indices)
-        top_row = std::min(top_row, static_cast<std::uint32_t>(i / cloud.width));
-      d.top_row = static_cast<int>(top_row);
-      d.free_fraction = freeFraction(cloud, d, ground, origin, params_.free_depth_step, walls);
-      if (params_.reject_top_at_border && d.top_row <= kBorderRows && cutByTopBorder(cloud, d))
-        continue;
-      // Only of a new person: a bending body continuing its track has its back, not a free head, on top.
-      if (!d.weak && !(d.free_fraction >= params_.min_free_fraction))
-        continue;
-      kept.push_back(std::move(d));
-    }
-    candidates.swap(kept);
-  }
-
-  // ---- a head above shoulders: cabinets, shelves, doors and chair backs are as wide at the top as
-  // below. A candidate failing it may still continue a track (weak), as one failing HOG ----
-  for (auto& d : candidates)
-  {
-    d.head_ratio = headRatio(cloud, d, ground, origin);
-    if (params_.max_head_ratio > 0.0f && d.head_ratio > params_.max_head_ratio)  // NaN: cannot tell, kept
-      d.weak = true;
-  }
-
-  // ---- HOG confirmation (organized clouds only: it needs the image). A person failing it may
-  // still continue a track (weak): HOG wants upright people, a bending one fails ----
-  Eigen::Matrix<float, 3, 4> P;
-  if (impl_->classifier && !candidates.empty() && fitProjection(cloud, P))
-  {
-    out.hog_applied = true;
-    auto image = pcl::make_shared<pcl::PointCloud<pcl::RGB>>(cloud.width, cloud.height);
-    for (std::size_t i = 0; i < cloud.size(); ++i)
-    {
-      (*image)[i].r = cloud[i].r;
-      (*image)[i].g = cloud[i].g;
-      (*image)[i].b = cloud[i].b;
-    }
-    for (auto& d : candidates)
-    {
-      if (d.weak)
-        continue;
-      const Eigen::Vector3f foot = d.centroid - heightAbove(ground, d.centroid) * up;
-      const Eigen::Vector3f head = foot + d.height * up;
-      const Eigen::Vector3f a = P * foot.homogeneous(), b = P * head.homogeneous(),
-                            c = P * (0.5f * (foot + head)).homogeneous();
-      if (!(a.z() > 0 && b.z() > 0 && c.z() > 0))
-        continue;  // behind the camera's image plane: cannot be judged, kept
-      const float pixel_height = (a.hnormalized() - b.hnormalized()).norm();
-      d.hog_confidence = impl_->classifier->evaluate(pixel_height, c.x() / c.z(), c.y() / c.z(), image);
-      if (d.hog_confidence < params_.hog_min_confidence)
-        d.weak = true;
-    }
-  }
-  // ---- a bending body often falls apart into two low clusters (back and head, legs and arms):
-  // weak candidates this close on the floor are one body ----
-  for (std::size_t a = 0; a < candidates.size(); ++a)
-  {
-    if (!candidates[a].weak)
-      continue;
-    for (std::size_t b = a + 1; b < candidates.size();)
-    {
-      PersonDetection& p = candidates[a];
-      const PersonDetection& q = candidates[b];
-      const Eigen::Vector3f d = q.centroid - p.centroid;
-      if (!q.weak || (d - d.dot(up) * up).norm() > kFragmentDistance)
-      {
-        ++b;
-        continue;
-      }
-      const float wp = static_cast<float>(p.voxels), wq = static_cast<float>(q.voxels);
-      p.centroid = (wp * p.centroid + wq * q.centroid) / (wp + wq);
-      p.height = std::max(p.height, q.height);
-      p.width = std::max({p.width, q.width, (d - d.dot(up) * up).norm()});
-      p.voxels += q.voxels;
-      p.indices.insert(p.indices.end(), q.indices.begin(), q.indices.end());
-      candidates.erase(candidates.begin() + static_cast<std::ptrdiff_t>(b));
-    }
-  }
+  // ---- the candidates and what makes them people (or weak: able to continue a track only) ----
+  Candidates found = sizedCandidates(members, *level, *above, ground, grid, params_);
+  collectFullResolution(cloud, valid, ground, params_, found);
+  std::vector<PersonDetection>& candidates = found.people;
+  keepFreeStanding(cloud, ground, origin, walls, params_, candidates);
+  markWideTops(cloud, ground, origin, params_, candidates);
+  out.hog_applied = confirmWithHog(cloud, ground, impl_->classifier.get(), params_, candidates);
+  mergeFragments(up, candidates);
   out.people.swap(candidates);
   return out;
 }
