@@ -2,7 +2,8 @@
 #include "tracker_clustering.h"
 #include "tracker_walls.h"
 
-#include <pcl/filters/voxel_grid.h>
+#include <action_flow/voxel_filter.h>
+
 #include <pcl/people/head_based_subcluster.h>
 #include <pcl/people/person_classifier.h>
 
@@ -22,11 +23,6 @@ namespace action_flow
 {
 namespace
 {
-Cloud::ConstPtr borrow(const Cloud& cloud)
-{
-  return Cloud::ConstPtr(&cloud, [](const Cloud*) {});
-}
-
 // The voxel a point falls in, as pcl::VoxelGrid computes it (floor of the coordinate over the
 // leaf size: the grid is anchored at the origin), packed into one key.
 std::uint64_t voxelKey(const PointT& p, float inverse_leaf)
@@ -782,15 +778,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
                                   : impl_->ground.plane();
     return out;
   }
-  auto voxels = pcl::make_shared<Cloud>();
-  {
-    pcl::VoxelGrid<PointT> grid;
-    grid.setInputCloud(borrow(cloud));
-    grid.setIndices(sampled);
-    const float leaf = params_.detection_voxel_size;
-    grid.setLeafSize(leaf, leaf, leaf);
-    grid.filter(*voxels);
-  }
+  auto voxels = pcl::make_shared<Cloud>(voxelFiltered(cloud, params_.detection_voxel_size, sampled));
 
   // ---- ground ----
   Eigen::Vector4f ground;
@@ -847,18 +835,8 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
 
 boost::shared_ptr<Cloud> PeopleDetector::personCloud(const Cloud& cloud, const PersonDetection& person) const
 {
-  auto out = boost::make_shared<Cloud>();
-  out->header = cloud.header;
-  if (!person.indices.empty())
-  {
-    pcl::VoxelGrid<PointT> grid;
-    grid.setInputCloud(borrow(cloud));
-    grid.setIndices(pcl::make_shared<pcl::Indices>(person.indices));
-    const float leaf = params_.person_voxel_size;
-    grid.setLeafSize(leaf, leaf, leaf);
-    grid.filter(*out);
-    out->header = cloud.header;
-  }
+  auto out = boost::make_shared<Cloud>(
+      voxelFiltered(cloud, params_.person_voxel_size, pcl::make_shared<const pcl::Indices>(person.indices)));
   out->width = static_cast<std::uint32_t>(out->size());
   out->height = 1;
   out->is_dense = true;

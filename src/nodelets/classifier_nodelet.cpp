@@ -45,14 +45,6 @@ class ClassifierNodelet : public LazyNodelet
     pnh.param("arrow_scale", arrow_scale_, arrow_scale_);
     pnh.param("max_arrows", max_arrows_, max_arrows_);
     diag_.start(getNodeHandle(), pnh, getName(), "classifier");
-    try
-    {
-      tracks_ = TrackTable<Seen>(readRecognitionParams(pnh).flow.max_gap);
-    }
-    catch (const std::exception&)
-    {
-      // loadModel reports bad recognition parameters
-    }
     loadModel(pnh);
     if (policy_)
       diag_.set("model", "loaded: " + pnh.param<std::string>("model", ""));
@@ -85,8 +77,10 @@ class ClassifierNodelet : public LazyNodelet
     }
     try
     {
+      const RecognitionParams runtime = readRecognitionParams(pnh);
+      tracks_ = TrackTable<Seen>(runtime.flow.max_gap);
       auto model = std::make_shared<ActionModel>(ActionModel::load(path));
-      model->checkCompatible(readRecognitionParams(pnh), path);
+      model->checkCompatible(runtime, path);
       policy_.emplace(model, policy_params_);
       NODELET_INFO("model '%s': recognizer %s, %zu training sequences of %zu actions, %s%s", path.c_str(),
                    toString(model->params.recognizer).c_str(), model->labels.size(),

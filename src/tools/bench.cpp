@@ -5,7 +5,6 @@
 #include "../bench/stage_stats.h"
 #include "../bench/training_set.h"
 
-#include <pcl/filters/voxel_grid.h>
 
 #include <action_flow/action_classifier.h>
 #include <action_flow/action_model.h>
@@ -14,6 +13,7 @@
 #include <action_flow/posture_flow.h>
 #include <action_flow/pca.h>
 #include <action_flow/sequence_descriptor.h>
+#include <action_flow/voxel_filter.h>
 #include "../eval/evaluation.h"
 
 #include <dirent.h>
@@ -132,18 +132,6 @@ Options parse(int argc, char** argv)
   if (o.octree_resolution < 0 || o.voxels.empty())
     usage("--octree-resolution must be >= 0, --voxels not empty");
   return o;
-}
-
-// Voxel-grid filter as the tracker applies it to person clouds (PCL's VoxelGrid: one centroid per
-// occupied voxel, colours averaged).
-Cloud voxelise(const Cloud& in, float voxel)
-{
-  pcl::VoxelGrid<PointT> grid;
-  grid.setInputCloud(pcl::make_shared<Cloud>(in));
-  grid.setLeafSize(voxel, voxel, voxel);
-  Cloud out;
-  grid.filter(out);
-  return out;
 }
 
 std::string ms(double s)
@@ -514,7 +502,7 @@ void collectFrames(const Options& o, std::map<float, std::vector<PersonSequence>
       auto& seqs = by_voxel[v];
       if (first)
         seqs.push_back(PersonSequence{ {}, {}, ground });
-      seqs.back().clouds.push_back(voxelise(person, v));
+      seqs.back().clouds.push_back(voxelFiltered(person, v));
       seqs.back().stamps.push_back(stamp);
     }
     if (tracker)

@@ -3,7 +3,6 @@
 
 #include <action_flow/types.h>
 
-#include <pcl/filters/voxel_grid.h>
 
 #include <random>
 
@@ -40,17 +39,6 @@ inline Cloud texturedBlock(int nx, int ny, int nz, const Eigen::Vector3f& corner
         c.push_back(p);
       }
   return c;
-}
-
-/** Voxel-grid filter as the tracker applies it (PCL's VoxelGrid: one centroid per occupied voxel). */
-inline Cloud voxelised(const Cloud& in, float voxel)
-{
-  pcl::VoxelGrid<PointT> grid;
-  grid.setInputCloud(pcl::make_shared<Cloud>(in));
-  grid.setLeafSize(voxel, voxel, voxel);
-  Cloud out;
-  grid.filter(out);
-  return out;
 }
 
 /** The same cloud moved by @p d. */

@@ -4,6 +4,7 @@
 #include "clouds.h"
 
 #include <action_flow/flow_estimator.h>
+#include <action_flow/voxel_filter.h>
 
 #include <gtest/gtest.h>
 #include <nanoflann.hpp>
@@ -30,7 +31,7 @@ Cloud randomVoxelised(unsigned seed, int n, float voxel)
     p.r = static_cast<std::uint8_t>(c(rng)), p.g = static_cast<std::uint8_t>(c(rng)), p.b = static_cast<std::uint8_t>(c(rng));
     raw.push_back(p);
   }
-  return test::voxelised(raw, voxel);
+  return voxelFiltered(raw, voxel);
 }
 
 // A regular lattice with few colours: many exactly equal distances and colours, the hard case for ties.
