@@ -1,7 +1,7 @@
 // CLEAR MOT and identity scores of a tracked sequence against its truth (tracking_metrics.h).
 #include "tracking_metrics.h"
 
-#include "../core/tracker_assignment.h"
+#include "../tracker/tracker_assignment.h"
 
 #include <algorithm>
 #include <cmath>

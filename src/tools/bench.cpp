@@ -1,6 +1,6 @@
 // bench: per-stage timings of the flow pipeline and the classifier, ours beside the paper-faithful
 // PCL-octree baseline on the same frames in the same run (see docs/bench.md).
-#include "cli.h"
+#include "../offline/cli.h"
 #include "../bench/octree_flow_baseline.h"
 #include "../bench/stage_stats.h"
 #include "../bench/training_set.h"

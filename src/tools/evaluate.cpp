@@ -2,11 +2,11 @@
 // default recognizer, its ablations, the paper's variants and (for MSR Action3D) a joint-position
 // baseline, and writes a report folder: report.json, confusion matrices (CSV and PNG), the paper's
 // accuracy against frames per sequence (its Figure 8) and an ablation table.
-#include "cli.h"
-#include "extraction.h"
-#include "detection_protocol.h"
-#include "online_protocol.h"
-#include "sample_sources.h"
+#include "../offline/cli.h"
+#include "../offline/extraction.h"
+#include "../offline/detection_protocol.h"
+#include "../offline/online_protocol.h"
+#include "../offline/sample_sources.h"
 
 #include <action_flow/files.h>
 #include <action_flow/synth/skeleton.h>

@@ -1,8 +1,8 @@
 // evaluate_tracking: the people tracker on crowd scenes of the virtual Kinect, scored as the MOT
 // benchmarks score trackers (MOTA, IDF1, id switches; tracking_metrics.h). See docs/evaluation.md,
 // "Several people: tracking".
-#include "cli.h"
-#include "extraction.h"
+#include "../offline/cli.h"
+#include "../offline/extraction.h"
 
 #include <action_flow/files.h>
 #include <action_flow/people_tracker.h>

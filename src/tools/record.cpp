@@ -3,9 +3,9 @@
 // camera_info, writes them as the virtual Kinect writes its bags (JPEG colour and PNG depth on
 // <topic>/compressed, camera_info), and adds the sample to the folder's index.csv, which `train
 // --index` reads. Each frame takes about 0.13 MB instead of a cloud's 10 MB.
-#include "cli.h"
-#include "guarded_bag.h"
-#include "synth_bag.h"
+#include "../offline/cli.h"
+#include "../offline/guarded_bag.h"
+#include "../offline/synth_bag.h"
 
 #include <action_flow/files.h>
 

@@ -1,8 +1,8 @@
 // synth: renders the synthetic IAS-Lab-style dataset, its continuous streams of actions, the MSR
 // Action3D skeletons or streams of them as Kinect bags (one per sample, plus index.csv), or preview images. See
 // docs/synth.md.
-#include "cli.h"
-#include "synth_bag.h"
+#include "../offline/cli.h"
+#include "../offline/synth_bag.h"
 
 #include <action_flow/files.h>
 #include <action_flow/synth/crowd.h>

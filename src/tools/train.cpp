@@ -1,9 +1,9 @@
 // train: a dataset (bags listed in an index, or the virtual Kinect rendering in-process) in, a
 // model file out. Same code path as the live pipeline: tracker -> flow -> frame descriptor ->
 // sequence descriptor -> classifier.
-#include "cli.h"
-#include "extraction.h"
-#include "sample_sources.h"
+#include "../offline/cli.h"
+#include "../offline/extraction.h"
+#include "../offline/sample_sources.h"
 
 #include <cstdio>
 #include <iostream>

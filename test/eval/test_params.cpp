@@ -2,8 +2,8 @@
 // the --config yaml files and docs/parameters.md all follow that one declaration.
 #include <gtest/gtest.h>
 
-#include "../../src/tools/extraction.h"
-#include "../../src/tools/param_files.h"
+#include "../../src/offline/extraction.h"
+#include "../../src/offline/param_files.h"
 
 #include <action_flow/param_table.h>
 

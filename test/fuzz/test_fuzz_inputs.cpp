@@ -6,11 +6,11 @@
 #include "generators.h"
 #include "harness.h"
 
-#include "../../src/tools/sample_sources.h"
+#include "../../src/offline/sample_sources.h"
 
 #include <action_flow/action_model.h>
 #include "../../src/eval/evaluation.h"
-#include "../../src/eval/feature_extractor.h"
+#include "../../src/offline/feature_extractor.h"
 #include <action_flow/files.h>
 #include <action_flow/people_tracker.h>
 #include <action_flow/ros/input_checks.h>

@@ -152,7 +152,7 @@ for f in "$SRC"/scripts/*; do
   [ -f "$f" ] && [ -x "$f" ] || continue
   case " $USER_SCRIPTS $SOURCE_TREE_SCRIPTS " in
     *" $s "*) ;;
-    *) problems+="scripts/$s is executable but neither installed (cmake/install.cmake) nor a source-tree script (this test's list); " ;;
+    *) problems+="scripts/$s is executable but neither installed (the top CMakeLists.txt) nor a source-tree script (this test's list); " ;;
   esac
 done
 for s in plot_report.py plot_timeline.py plot_tracks.py plot_detection.py; do  # evaluate runs <package path>/scripts/<s>

@@ -9,7 +9,7 @@
 
 #include <action_flow/FrameDescriptorArray.h>
 #include <action_flow/PersonFlow.h>
-#include "../../src/eval/feature_extractor.h"
+#include "../../src/offline/feature_extractor.h"
 #include <action_flow/ros/params.h>
 #include <action_flow/synth/synth.h>
 

@@ -1,7 +1,7 @@
 // The bags synth writes: readable with the rosbag API, with the promised topics, types, frame ids
 // and message counts; byte-identical for the same seed; no partial file when cancelled; a stream's
 // ground-truth action per frame and its segments CSV.
-#include "../../src/tools/synth_bag.h"
+#include "../../src/offline/synth_bag.h"
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>

@@ -3,7 +3,7 @@
 // is kept when furniture hides the floor; the walls it removes are the room's. (test_tracker_likeness.cpp has the same cases on the
 // test camera's simple shapes, and the bending bodies.)
 #include <action_flow/people_tracker.h>
-#include "../../src/core/tracker_walls.h"
+#include "../../src/tracker/tracker_walls.h"
 #include <action_flow/synth/scene.h>
 #include <action_flow/synth/synth.h>
 

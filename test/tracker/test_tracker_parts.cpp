@@ -3,10 +3,10 @@
 #include "../core/scene.h"
 
 #include <action_flow/people_tracker.h>
-#include "../../src/core/tracker_assignment.h"
-#include "../../src/core/tracker_clustering.h"
-#include "../../src/core/tracker_detector.h"
-#include "../../src/core/tracker_ground.h"
+#include "../../src/tracker/tracker_assignment.h"
+#include "../../src/tracker/tracker_clustering.h"
+#include "../../src/tracker/tracker_detector.h"
+#include "../../src/tracker/tracker_ground.h"
 
 #include <gtest/gtest.h>
 #include <pcl/search/kdtree.h>

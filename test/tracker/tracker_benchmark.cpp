@@ -2,10 +2,10 @@
 // with what it found in each. Not a test: prints figures.
 //   tracker_benchmark [--runs N] [--hog FILE] [--data DIR] [--png DIR] [--probe U,V]... [--candidates]
 #include "real_data.h"
-#include "../../src/tools/cli.h"
+#include "../../src/offline/cli.h"
 
 #include <action_flow/people_tracker.h>
-#include "../../src/core/tracker_detector.h"
+#include "../../src/tracker/tracker_detector.h"
 
 #include <pcl/io/png_io.h>
 

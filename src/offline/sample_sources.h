@@ -2,7 +2,7 @@
 // Kinect rendering in-process.
 #pragma once
 
-#include "../eval/feature_extractor.h"
+#include "feature_extractor.h"
 #include <action_flow/synth/synth.h>
 
 #include <functional>

@@ -7,7 +7,7 @@
 #include <action_flow/ActionLabel.h>
 #include <action_flow/ros/stage_types.h>
 
-#include "stage_stats.h"
+#include "../bench/stage_stats.h"
 
 #include <nlohmann/json.hpp>
 #include <nodelet/nodelet.h>

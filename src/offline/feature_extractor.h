@@ -7,7 +7,7 @@
 #pragma once
 
 #include <action_flow/action_model.h>
-#include "evaluation.h"
+#include "../eval/evaluation.h"
 #include <action_flow/people_tracker.h>
 
 #include <vector>

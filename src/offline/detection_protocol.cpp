@@ -5,7 +5,7 @@
 
 #include <action_flow/files.h>
 #include <action_flow/synth/clutter.h>
-#include "../core/tracker_detector.h"
+#include "../tracker/tracker_detector.h"
 
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
