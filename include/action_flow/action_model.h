@@ -39,13 +39,13 @@ Recognizer recognizerFromString(const std::string& name);
 
 /**
  * @brief Every parameter of the method, from person cloud to sequence descriptor (declared in
- *        visit(); param_table.h). The struct's defaults are the paper's method;
+ *        visit(); param_table.h). The person clouds' voxel size is the tracker's
+ *        (TrackerParams::person_voxel_size, the paper's 0.02 m), declared there only. The struct's defaults are the paper's method;
  *        defaultRecognitionParams() selects the default recognizer, posture_flow.
  */
 struct RecognitionParams
 {
   Recognizer recognizer = Recognizer::Paper;
-  float voxel_size = 0.02f;  ///< person clouds are voxelised to this (m); the paper's 0.02
   FlowParams flow;
   GridParams grid;           ///< the grid of both recognizers (aggregation: the paper's only)
   int frames = 30;           ///< paper: F, frames per sequence descriptor
@@ -60,7 +60,6 @@ struct RecognitionParams
     v("recognizer", p.recognizer,
       "posture_flow (posture and flow, temporal pyramid, linear classifier) or paper (Munaro et al.)",
       Shapes::Frames);
-    v("voxel_size", p.voxel_size, "m: person clouds are voxelised to this (the paper's 0.02)", Shapes::Frames);
     FlowParams::visit(p.flow, v);
     GridParams::visit(p.grid, v);
     v("frames", p.frames, "paper: F, frames per sequence descriptor", Shapes::Model);

@@ -132,7 +132,7 @@ struct TrackerParams
   {
     const Shapes s = Shapes::Frames;  // every tracker parameter shapes which clouds make the descriptors
     v("detection_voxel_size", p.detection_voxel_size, "m: voxel size for detection", s);
-    v("person_voxel_size", p.person_voxel_size, "m: voxel size of the published person clouds (= voxel_size)", s);
+    v("person_voxel_size", p.person_voxel_size, "m: voxel size of the published person clouds (the paper's 0.02)", s);
     v("max_range", p.max_range, "m: farther points are ignored", s);
     v("min_height", p.min_height, "m: a new person's least height (top of head above the ground)", s);
     v("max_height", p.max_height, "m: a person's greatest height", s);

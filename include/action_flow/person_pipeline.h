@@ -68,7 +68,7 @@ public:
   explicit PersonPipeline(const std::vector<RecognitionParams>& variants);
 
   /**
-   * @brief Adds the person's next cloud (voxelised to params.voxel_size) at @p stamp, standing at
+   * @brief Adds the person's next cloud (voxelised to the tracker's person_voxel_size) at @p stamp, standing at
    *        @p where. When the flow could be estimated, each variant's frame descriptor is appended
    *        to its descriptors(); a time reset clears the collected descriptors first.
    */

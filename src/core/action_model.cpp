@@ -136,6 +136,10 @@ RecognitionParams getParams(Reader& r)
   for (std::uint64_t i = 0; i < n; ++i)
   {
     const std::string name = r.getString(), value = r.getString();
+    // Files written before the person clouds' voxel size was declared in the tracker's parameters
+    // alone name it here too; the tracker's person_voxel_size is what shapes the clouds.
+    if (name == "voxel_size")
+      continue;
     try
     {
       if (!setParam(p, name, value))

@@ -14,9 +14,7 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
                                         const std::vector<RecognitionParams>& variants, bool all_tracks)
 {
   for (const auto& v : variants)
-    if (std::fabs(v.voxel_size - tracker_params.person_voxel_size) > 1e-6f)
-      throw std::invalid_argument("extractSample: the flow's voxel size differs from the tracker's person clouds");
-    else if (v.flow.max_gap != variants.front().flow.max_gap)
+    if (v.flow.max_gap != variants.front().flow.max_gap)
       throw std::invalid_argument("extractSample: the variants' flow/max_gap differ (their tracks end together)");
   if (variants.empty())
     return {};

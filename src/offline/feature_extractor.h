@@ -29,9 +29,9 @@ public:
  *        seen in the most frames (a dataset sample shows one person). With @p all_tracks, every
  *        track's descriptors instead, in time order, with SampleFrames::tracks (a stream: the
  *        tracker may lose the performer and find them again under a new id, as it would live).
- * @param variants parameter sets to extract at once (e.g. SUMFLOW and MEANFLOW); each variant's
- *        voxel_size must equal the tracker's person_voxel_size
- * @throws std::invalid_argument on mismatched voxel sizes
+ * @param variants parameter sets to extract at once (e.g. SUMFLOW and MEANFLOW), on the person
+ *        clouds of @p tracker (at its person_voxel_size)
+ * @throws std::invalid_argument if the variants' flow/max_gap differ
  */
 std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams& tracker,
                                         const std::vector<RecognitionParams>& variants, bool all_tracks = false);

@@ -15,7 +15,7 @@ namespace action_flow
 {
 /**
  * @brief The recognition parameters (RecognitionParams::visit) set in @p nh's namespace, over
- *        defaultRecognitionParams(): recognizer, voxel_size, flow/..., grid/..., descriptor, ...
+ *        defaultRecognitionParams(): recognizer, flow/..., grid/..., descriptor, ...
  *        (docs/parameters.md lists them all).
  * @throws std::invalid_argument "<name>: <what was wrong>" on a value that does not parse
  */
