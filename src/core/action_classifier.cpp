@@ -19,6 +19,81 @@ namespace
 constexpr double kHeadShare = 0.25;
 
 thread_local std::size_t completed_rows = 0;
+
+/**
+ * What one query's search has completed so far: each label's nearest row and its distance, and the
+ * k nearest rows (a max-heap on distance) for the vote.
+ */
+struct NearestRows
+{
+  NearestRows(std::size_t classes, std::size_t rows, int k)
+    : best(classes, std::numeric_limits<float>::infinity()), best_row(classes, 0), done(rows, 0), k(k)
+  {
+  }
+
+  /// Row @p i, of label @p c, completed at distance @p d.
+  void add(Eigen::Index i, int c, float d)
+  {
+    done[i] = 1;
+    if (d < best[c] || (d == best[c] && static_cast<std::size_t>(i) < best_row[c]))
+    {
+      best[c] = d;
+      best_row[c] = static_cast<std::size_t>(i);
+    }
+    if (k > 1)
+    {
+      nearest.emplace(d, static_cast<std::size_t>(i));
+      if (nearest.size() > static_cast<std::size_t>(k))
+        nearest.pop();
+    }
+  }
+
+  /// The smallest and second smallest of the labels' nearest distances, and the first one's label.
+  void updateTwo()
+  {
+    first = second = std::numeric_limits<float>::infinity();
+    for (std::size_t c = 0; c < best.size(); ++c)
+      if (best[c] < first)
+      {
+        second = first;
+        first = best[c];
+        first_class = static_cast<int>(c);
+      }
+      else if (best[c] < second)
+        second = best[c];
+  }
+
+  /**
+   * Whether a row of label @p c whose distance is at least @p bound can change the answer. With
+   * k = 1 the answer needs only the nearest row and the nearest row of another label (the margin): a
+   * row matters while its bound is below the second smallest of the labels' nearest distances (both
+   * only shrink as rows are completed, so a row skipped stays irrelevant). With k > 1 every voting
+   * label's nearest distance is used, so each label's must be exact.
+   */
+  bool matters(int c, float bound) const
+  {
+    if (k == 1)
+      return c == first_class ? bound <= first : bound <= second;
+    return bound <= best[c] || nearest.size() < static_cast<std::size_t>(k) || bound <= nearest.top().first;
+  }
+
+  /// The k nearest rows as (distance, row), farthest first; empties the heap.
+  std::vector<std::pair<float, std::size_t>> votes()
+  {
+    std::vector<std::pair<float, std::size_t>> out;
+    for (; !nearest.empty(); nearest.pop())
+      out.push_back(nearest.top());
+    return out;
+  }
+
+  std::vector<float> best;
+  std::vector<std::size_t> best_row;
+  std::vector<char> done;
+  std::priority_queue<std::pair<float, std::size_t>> nearest;
+  int k;
+  float first = std::numeric_limits<float>::infinity(), second = first;
+  int first_class = -1;
+};
 }  // namespace
 
 ActionClassifier::ActionClassifier(const Eigen::MatrixXf& descriptors, std::vector<std::string> labels, int k)
@@ -83,16 +158,15 @@ Classification ActionClassifier::classify(const Eigen::VectorXf& query) const
   const Eigen::Index n = head_.rows();
   const Eigen::ArrayXf bound = headDistances(q);
   const Eigen::Array<float, 1, Eigen::Dynamic> q_tail = q.tail(tail_.cols()).transpose().array();
-  const auto complete = [&](Eigen::Index i) {
-    ++completed_rows;
-    return bound[i] + (tail_.row(i).array() - q_tail).square().sum();
-  };
   completed_rows = 0;
+  NearestRows rows(classes_.size(), static_cast<std::size_t>(n), k_);
+  const auto take = [&](Eigen::Index i) {
+    ++completed_rows;
+    rows.add(i, class_of_[i], bound[i] + (tail_.row(i).array() - q_tail).square().sum());
+  };
 
   // Pass 2: complete each label's most promising row first (so that every label has a nearest
   // distance to prune with), then any row whose bound can still win.
-  std::vector<float> best(classes_.size(), std::numeric_limits<float>::infinity());
-  std::vector<std::size_t> best_row(classes_.size(), 0);
   std::vector<Eigen::Index> seed(classes_.size(), -1);
   for (Eigen::Index i = 0; i < n; ++i)
   {
@@ -100,68 +174,20 @@ Classification ActionClassifier::classify(const Eigen::VectorXf& query) const
     if (s < 0 || bound[i] < bound[s])
       s = i;
   }
-  std::vector<char> done(static_cast<std::size_t>(n), 0);
-  // The k nearest completed rows (a max-heap on distance), for the vote.
-  std::priority_queue<std::pair<float, std::size_t>> nearest;
-  const auto take = [&](Eigen::Index i) {
-    const float d = complete(i);
-    done[i] = 1;
-    const int c = class_of_[i];
-    if (d < best[c] || (d == best[c] && static_cast<std::size_t>(i) < best_row[c]))
-    {
-      best[c] = d;
-      best_row[c] = static_cast<std::size_t>(i);
-    }
-    if (k_ > 1)
-    {
-      nearest.emplace(d, static_cast<std::size_t>(i));
-      if (nearest.size() > static_cast<std::size_t>(k_))
-        nearest.pop();
-    }
-  };
   for (const Eigen::Index s : seed)
     take(s);
-  // With k = 1 the answer needs only the nearest row and the nearest row of another label (the
-  // margin): a row matters while its bound is below the second smallest of the labels' nearest
-  // distances (both only shrink as rows are completed, so a row skipped stays irrelevant). With
-  // k > 1 every voting label's nearest distance is used, so each label's must be exact.
-  float first = std::numeric_limits<float>::infinity(), second = first;
-  int first_class = -1;
-  const auto update_two = [&]() {
-    first = second = std::numeric_limits<float>::infinity();
-    for (std::size_t c = 0; c < best.size(); ++c)
-      if (best[c] < first)
-      {
-        second = first;
-        first = best[c];
-        first_class = static_cast<int>(c);
-      }
-      else if (best[c] < second)
-        second = best[c];
-  };
-  update_two();
+  rows.updateTwo();
   for (Eigen::Index i = 0; i < n; ++i)
   {
-    if (done[i])
-      continue;
     const int c = class_of_[i];
-    bool matters;
-    if (k_ == 1)
-      matters = c == first_class ? bound[i] <= first : bound[i] <= second;
-    else
-      matters = bound[i] <= best[c] ||
-                nearest.size() < static_cast<std::size_t>(k_) || bound[i] <= nearest.top().first;
-    if (!matters)
+    if (rows.done[i] || !rows.matters(c, bound[i]))
       continue;
-    const float before = best[c];
+    const float before = rows.best[c];
     take(i);
-    if (k_ == 1 && best[c] < before)
-      update_two();
+    if (k_ == 1 && rows.best[c] < before)
+      rows.updateTwo();
   }
-  std::vector<std::pair<float, std::size_t>> votes;
-  for (; !nearest.empty(); nearest.pop())
-    votes.push_back(nearest.top());
-  return decide(best, best_row, votes);
+  return decide(rows.best, rows.best_row, rows.votes());
 }
 
 Eigen::ArrayXf ActionClassifier::headDistances(const Eigen::VectorXf& q) const

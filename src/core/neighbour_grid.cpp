@@ -315,45 +315,62 @@ private:
   // candidates' order is the frame's order up to the k-th.
   std::size_t matchOne(const Eigen::Vector3f& q, const Eigen::Vector3f& qc, const int centre[3])
   {
-    std::size_t m;
+    const std::size_t m = gatherEnough(q, centre);
+    colourDistances(qc, m);
+    return nearestColour(std::min(k_, m), m);
+  }
+
+  // out[i]: the squared distance from q to (a[i], b[i], c[i]), for every candidate (a loop over
+  // separate coordinate arrays, which the compiler vectorises).
+  static void squaredDistances(const std::vector<float>& a, const std::vector<float>& b, const std::vector<float>& c,
+                               const Eigen::Vector3f& q, std::vector<float>& out)
+  {
+    const std::size_t m = a.size();
+    out.resize(m);
+    const float qa = q.x(), qb = q.y(), qc = q.z();
+    const float *pa = a.data(), *pb = b.data(), *pc = c.data();
+    float* o = out.data();
+    for (std::size_t i = 0; i < m; ++i)
+    {
+      const float u = pa[i] - qa, v = pb[i] - qb, w = pc[i] - qc;
+      o[i] = u * u + v * v + w * w;
+    }
+  }
+
+  // Fills d2_ with the squared distances from q to the gathered candidates, growing the cube until
+  // k of them lie within its safe radius (safe_); returns the number of candidates.
+  std::size_t gatherEnough(const Eigen::Vector3f& q, const int centre[3])
+  {
     for (;;)
     {
-      m = x_.size();
-      d2_.resize(m);
-      const float qx = q.x(), qy = q.y(), qz = q.z();
-      const float *x = x_.data(), *y = y_.data(), *z = z_.data();
-      float* d2 = d2_.data();
-      for (std::size_t i = 0; i < m; ++i)
-      {
-        const float dx = x[i] - qx, dy = y[i] - qy, dz = z[i] - qz;
-        d2[i] = dx * dx + dy * dy + dz * dz;
-      }
+      const std::size_t m = x_.size();
+      squaredDistances(x_, y_, z_, q, d2_);
+      const float* d2 = d2_.data();
       const float safe = safe_ = safeSq(q);
       if (std::isinf(safe))
-        break;
+        return m;
       std::uint32_t inside = 0;  // 32-bit counters keep these loops vectorised
       for (std::size_t i = 0; i < m; ++i)
         inside += d2[i] <= safe ? 1u : 0u;
       if (inside >= k_)
-        break;
+        return m;
       gatherCube(centre, r_ + 1);
     }
-    const std::size_t kk = std::min(k_, m);
-    h_.resize(m);
-    {
-      const float a = qc.x(), b = qc.y(), c = qc.z();
-      const float *c0 = c0_.data(), *c1 = c1_.data(), *c2 = c2_.data();
-      float* h = h_.data();
-      for (std::size_t i = 0; i < m; ++i)
-      {
-        const float u = c0[i] - a, v = c1[i] - b, w = c2[i] - c;
-        h[i] = u * u + v * v + w * w;
-      }
-    }
-    // The bit patterns of non-negative floats order as the floats do; an integer minimum is
-    // vectorised where a float one (NaN rules) is not.
+  }
+
+  // hbits_: the squared colour distances from qc to the m candidates, as bit patterns. Those of
+  // non-negative floats order as the floats do; an integer minimum is vectorised where a float one
+  // (NaN rules) is not.
+  void colourDistances(const Eigen::Vector3f& qc, std::size_t m)
+  {
+    squaredDistances(c0_, c1_, c2_, qc, h_);
     hbits_.resize(m);
     std::memcpy(hbits_.data(), h_.data(), m * sizeof(float));
+  }
+
+  // The id of the candidate nearest in colour among the kk nearest in space (see matchOne).
+  std::uint32_t nearestColour(std::size_t kk, std::size_t m)
+  {
     const float* d2 = d2_.data();
     const std::uint32_t* id = id_.data();
     // First try: the candidate with the least (colour distance, distance, index).

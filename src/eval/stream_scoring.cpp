@@ -89,42 +89,53 @@ double StreamScore::false_per_minute() const
   return perMinute(false_labels, stream_seconds);
 }
 
-StreamScore scoreStream(const std::vector<TruthSegment>& truth, const std::vector<PredictedSegment>& predicted,
-                        const std::vector<double>& frame_stamps, double stream_start, double stream_end,
-                        double iou_threshold)
+namespace
+{
+using Truths = std::vector<TruthSegment>;
+using Predictions = std::vector<PredictedSegment>;
+
+// Every time given is finite, every span ends after it starts, the threshold is in (0, 1].
+void checkStreamInputs(const Truths& truth, const Predictions& predicted,
+                       const std::vector<double>& frame_stamps, double stream_start,
+                       double stream_end, double iou_threshold)
 {
   if (!(iou_threshold > 0.0 && iou_threshold <= 1.0))
-    throw std::invalid_argument("scoreStream: iou_threshold must be in (0, 1], got " + std::to_string(iou_threshold));
+    throw std::invalid_argument("scoreStream: iou_threshold must be in (0, 1], got " +
+                                std::to_string(iou_threshold));
   checkSpan(stream_start, stream_end, "scoreStream: stream span");
   for (std::size_t i = 0; i < truth.size(); ++i)
     checkSpan(truth[i].start, truth[i].end, "scoreStream: truth segment " + std::to_string(i));
   for (std::size_t j = 0; j < predicted.size(); ++j)
   {
-    checkSpan(predicted[j].start, predicted[j].end, "scoreStream: predicted segment " + std::to_string(j));
+    checkSpan(predicted[j].start, predicted[j].end,
+              "scoreStream: predicted segment " + std::to_string(j));
     checkTime(predicted[j].published, "publish time");
   }
   for (const double t : frame_stamps)
     checkTime(t, "frame stamp");
+}
 
-  StreamScore s;
-  s.truths = static_cast<int>(truth.size());
-  s.predictions = static_cast<int>(predicted.size());
-  s.stream_seconds = stream_end - stream_start;
+// A truth and a prediction that may match: same label, tIoU at the threshold or above.
+struct CandidatePair
+{
+  double iou;
+  int t, p;
+};
 
-  // The candidate pairs, then greedy matching by decreasing tIoU (ties: earlier truth, earlier prediction).
-  struct Pair
-  {
-    double iou;
-    int t, p;
-  };
-  std::vector<Pair> pairs;
-  std::vector<int> first_correct(truth.size(), -1);  // per truth: earliest published qualifying prediction
+// The candidate pairs, sorted by decreasing tIoU (ties: earlier truth, earlier prediction); fills
+// first_correct, per truth the earliest published qualifying prediction (-1: none).
+std::vector<CandidatePair> candidatePairs(const Truths& truth, const Predictions& predicted,
+                                          double iou_threshold, std::vector<int>& first_correct)
+{
+  std::vector<CandidatePair> pairs;
+  first_correct.assign(truth.size(), -1);
   for (std::size_t i = 0; i < truth.size(); ++i)
     for (std::size_t j = 0; j < predicted.size(); ++j)
     {
       if (truth[i].label != predicted[j].label)
         continue;
-      const double iou = temporalIou(truth[i].start, truth[i].end, predicted[j].start, predicted[j].end);
+      const double iou =
+          temporalIou(truth[i].start, truth[i].end, predicted[j].start, predicted[j].end);
       if (iou <= 0.0 || iou < iou_threshold - kIouTolerance)
         continue;
       pairs.push_back({ iou, static_cast<int>(i), static_cast<int>(j) });
@@ -132,13 +143,19 @@ StreamScore scoreStream(const std::vector<TruthSegment>& truth, const std::vecto
       if (f < 0 || predicted[j].published < predicted[f].published)
         f = static_cast<int>(j);
     }
-  std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+  std::sort(pairs.begin(), pairs.end(), [](const CandidatePair& a, const CandidatePair& b) {
     if (a.iou != b.iou)
       return a.iou > b.iou;
     return a.t != b.t ? a.t < b.t : a.p < b.p;
   });
-  s.match_of_truth.assign(truth.size(), -1);
-  s.match_of_prediction.assign(predicted.size(), -1);
+  return pairs;
+}
+
+// Greedy one-to-one matching in the pairs' order: fills the match vectors and the matched count.
+void matchGreedily(const std::vector<CandidatePair>& pairs, StreamScore& s)
+{
+  s.match_of_truth.assign(static_cast<std::size_t>(s.truths), -1);
+  s.match_of_prediction.assign(static_cast<std::size_t>(s.predictions), -1);
   for (const auto& pr : pairs)
     if (s.match_of_truth[pr.t] < 0 && s.match_of_prediction[pr.p] < 0)
     {
@@ -146,9 +163,12 @@ StreamScore scoreStream(const std::vector<TruthSegment>& truth, const std::vecto
       s.match_of_prediction[pr.p] = pr.t;
       ++s.matched;
     }
-  segmentFigures(s);
-  s.false_labels = s.predictions - s.matched;
+}
 
+// Per truth with a qualifying prediction: the earliest one's publish time from its start and end.
+void addLatencies(const Truths& truth, const Predictions& predicted,
+                  const std::vector<int>& first_correct, StreamScore& s)
+{
   for (std::size_t i = 0; i < truth.size(); ++i)
     if (first_correct[i] >= 0)
     {
@@ -156,18 +176,31 @@ StreamScore scoreStream(const std::vector<TruthSegment>& truth, const std::vecto
       s.start_latency.push_back(published - truth[i].start);
       s.end_latency.push_back(published - truth[i].end);
     }
+}
 
-  // A false label published while nobody acts; a right one published just after its action ended is not one.
+// False labels published while nobody acts; a right one published just after its action ended is
+// not one.
+int idleFalseLabels(const Truths& truth, const Predictions& predicted,
+                    const std::vector<int>& match_of_prediction)
+{
+  int idle_false = 0;
   for (std::size_t i = 0; i < predicted.size(); ++i)
   {
     const double at = predicted[i].published;
-    const bool under_way =
-        std::any_of(truth.begin(), truth.end(), [&](const TruthSegment& t) { return covers(t.start, t.end, at); });
-    if (!under_way && s.match_of_prediction[i] < 0)
-      ++s.idle_false;
+    const bool under_way = std::any_of(truth.begin(), truth.end(), [&](const TruthSegment& t) {
+      return covers(t.start, t.end, at);
+    });
+    if (!under_way && match_of_prediction[i] < 0)
+      ++idle_false;
   }
-  s.idle_seconds = s.stream_seconds - coveredSeconds(truth, stream_start, stream_end);
+  return idle_false;
+}
 
+// The frames whose label was right: the covering truth (the latest started) against the covering
+// prediction (the latest published), "" where none covers.
+int correctFrames(const Truths& truth, const Predictions& predicted,
+                  const std::vector<double>& frame_stamps)
+{
   int correct = 0;
   for (const double t : frame_stamps)
   {
@@ -182,6 +215,31 @@ StreamScore scoreStream(const std::vector<TruthSegment>& truth, const std::vecto
     if ((tr ? tr->label : std::string()) == (pr ? pr->label : std::string()))
       ++correct;
   }
+  return correct;
+}
+}  // namespace
+
+StreamScore scoreStream(const std::vector<TruthSegment>& truth, const std::vector<PredictedSegment>& predicted,
+                        const std::vector<double>& frame_stamps, double stream_start, double stream_end,
+                        double iou_threshold)
+{
+  checkStreamInputs(truth, predicted, frame_stamps, stream_start, stream_end, iou_threshold);
+
+  StreamScore s;
+  s.truths = static_cast<int>(truth.size());
+  s.predictions = static_cast<int>(predicted.size());
+  s.stream_seconds = stream_end - stream_start;
+
+  std::vector<int> first_correct;
+  matchGreedily(candidatePairs(truth, predicted, iou_threshold, first_correct), s);
+  segmentFigures(s);
+  s.false_labels = s.predictions - s.matched;
+  addLatencies(truth, predicted, first_correct, s);
+
+  s.idle_false = idleFalseLabels(truth, predicted, s.match_of_prediction);
+  s.idle_seconds = s.stream_seconds - coveredSeconds(truth, stream_start, stream_end);
+
+  const int correct = correctFrames(truth, predicted, frame_stamps);
   s.frames = static_cast<int>(frame_stamps.size());
   s.frame_accuracy = s.frames > 0 ? static_cast<double>(correct) / s.frames : 0.0;
   return s;

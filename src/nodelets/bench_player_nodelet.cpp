@@ -634,51 +634,99 @@ private:
     }
   }
 
+  /** What writeResults reports of the measured frames and labels. */
+  struct Totals
+  {
+    bench::StageSamples latency, label_latency, window_end_latency;  // ms
+    std::size_t processed = 0, with_person = 0;
+    double tracks = 0;         // over the processed frames
+    double rss_max = 0;        // MB, of the samples
+    double wall = 0, cpu = 0;  // s, of the measured run
+  };
+
   void writeResults(bool complete, const std::string& why)
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    bench::StageSamples latency, label_latency, window_end_latency;
-    std::size_t processed = 0, with_person = 0;
-    double tracks = 0;
-    std::ostringstream frames_csv;
-    frames_csv << "frame,stamp_us,published_s,arrived_s,latency_ms,arrival_order,tracks\n";
+    Totals t;
+    const std::string frames_csv = framesCsv(t);
+    const std::string labels_csv = labelsCsv(t);
+    const std::string samples_csv = samplesCsv(t);
+    t.wall = end_wall_ > start_wall_ ? end_wall_ - start_wall_ : steadySeconds() - start_wall_;
+    t.cpu = samples_.empty() ? 0.0 : samples_.back().cpu;
+    const nlohmann::json j = summary(complete, why, t);
+
+    std::filesystem::create_directories(output_dir_);
+    const std::string dir = output_dir_ + "/";
+    writeTextAtomically(dir + "frames.csv", frames_csv);
+    writeTextAtomically(dir + "labels.csv", labels_csv);
+    writeTextAtomically(dir + "samples.csv", samples_csv);
+    // summary.json last: its presence means the rest is there.
+    writeTextAtomically(dir + "summary.json", j.dump(2) + "\n");
+    NODELET_INFO("bench_player: %zu of %zu frames processed in %.1f s (%.1f fps, %.2f cores), "
+                 "latency median %.1f ms p95 %.1f ms; results in %s",
+                 t.processed, records_.size(), t.wall, t.wall > 0 ? t.processed / t.wall : 0.0,
+                 t.wall > 0 ? t.cpu / t.wall : 0.0, t.latency.empty() ? 0.0 : t.latency.median(),
+                 t.latency.empty() ? 0.0 : t.latency.p95(), dir.c_str());
+  }
+
+  /** frames.csv of the records, with their latencies and counts into @p t (mutex_ held). */
+  std::string framesCsv(Totals& t) const
+  {
+    std::ostringstream csv;
+    csv << "frame,stamp_us,published_s,arrived_s,latency_ms,arrival_order,tracks\n";
     for (std::size_t k = 0; k < records_.size(); ++k)
     {
       const Record& r = records_[k];
-      frames_csv << k << ',' << r.stamp_us << ',' << r.published - start_wall_ << ',';
+      csv << k << ',' << r.stamp_us << ',' << r.published - start_wall_ << ',';
       if (r.latency >= 0)
       {
-        ++processed;
-        latency.add(1e3 * r.latency);
-        tracks += r.tracks;
-        with_person += r.tracks > 0;
-        frames_csv << r.arrived - start_wall_ << ',' << 1e3 * r.latency << ',' << r.arrival_order << ',' << r.tracks
-                   << '\n';
+        ++t.processed;
+        t.latency.add(1e3 * r.latency);
+        t.tracks += r.tracks;
+        t.with_person += r.tracks > 0;
+        csv << r.arrived - start_wall_ << ',' << 1e3 * r.latency << ',' << r.arrival_order << ','
+            << r.tracks << '\n';
       }
       else
-        frames_csv << ",,,\n";
+        csv << ",,,\n";
     }
-    std::ostringstream labels_csv;
-    labels_csv << "stamp_us,latency_ms,window_end_latency_ms,track,label\n";
+    return csv.str();
+  }
+
+  /** labels.csv, with the labels' latencies into @p t (mutex_ held). */
+  std::string labelsCsv(Totals& t) const
+  {
+    std::ostringstream csv;
+    csv << "stamp_us,latency_ms,window_end_latency_ms,track,label\n";
     for (const auto& l : labels_)
     {
-      label_latency.add(1e3 * l.latency);
-      window_end_latency.add(1e3 * l.window_end_latency);
-      labels_csv << l.stamp_us << ',' << 1e3 * l.latency << ',' << 1e3 * l.window_end_latency << ',' << l.track << ','
-                 << l.label << '\n';
+      t.label_latency.add(1e3 * l.latency);
+      t.window_end_latency.add(1e3 * l.window_end_latency);
+      csv << l.stamp_us << ',' << 1e3 * l.latency << ',' << 1e3 * l.window_end_latency << ','
+          << l.track << ',' << l.label << '\n';
     }
-    std::ostringstream samples_csv;
-    samples_csv << "frame,wall_s,rss_mb,cpu_s,cores,fps,latency_median_ms,latency_p95_ms\n";
-    double rss_max = 0;
+    return csv.str();
+  }
+
+  /** samples.csv, with the largest RSS sampled into @p t. */
+  std::string samplesCsv(Totals& t) const
+  {
+    std::ostringstream csv;
+    csv << "frame,wall_s,rss_mb,cpu_s,cores,fps,latency_median_ms,latency_p95_ms\n";
     for (const auto& s : samples_)
     {
-      rss_max = std::max(rss_max, s.rss);
-      samples_csv << s.frame << ',' << s.wall << ',' << s.rss << ',' << s.cpu << ',' << s.cores << ',' << s.fps << ','
-                  << s.median << ',' << s.p95 << '\n';
+      t.rss_max = std::max(t.rss_max, s.rss);
+      csv << s.frame << ',' << s.wall << ',' << s.rss << ',' << s.cpu << ',' << s.cores << ','
+          << s.fps << ',' << s.median << ',' << s.p95 << '\n';
     }
+    return csv.str();
+  }
 
-    const double wall = end_wall_ > start_wall_ ? end_wall_ - start_wall_ : steadySeconds() - start_wall_;
-    const double cpu = samples_.empty() ? 0.0 : samples_.back().cpu;
+  /** summary.json: the run's settings and @p t (mutex_ held). */
+  nlohmann::json summary(bool complete, const std::string& why, const Totals& t) const
+  {
+    const double wall = t.wall, cpu = t.cpu;
+    const std::size_t processed = t.processed;
     nlohmann::json j;
     j["complete"] = complete;
     j["error"] = why;
@@ -698,38 +746,28 @@ private:
     j["frames_dropped"] = records_.size() - processed;
     j["frames_out_of_order"] = out_of_order_;
     j["states_unmatched"] = unknown_states_;
-    j["frames_with_person"] = with_person;
-    j["tracks_per_frame"] = processed ? tracks / processed : 0.0;
+    j["frames_with_person"] = t.with_person;
+    j["tracks_per_frame"] = processed ? t.tracks / processed : 0.0;
     j["wall_s"] = wall;
     j["fps"] = wall > 0 ? processed / wall : 0.0;
     j["cpu_s"] = cpu;
     j["cpu_cores"] = wall > 0 ? cpu / wall : 0.0;
     j["player_cpu_cores"] = wall > 0 ? player_cpu_ / wall : 0.0;
     j["copy_ms"] = percentiles(copy_ms_);
-    j["latency_ms"] = percentiles(latency);
-    j["label_latency_ms"] = percentiles(label_latency);
-    j["label_window_end_latency_ms"] = percentiles(window_end_latency);
+    j["latency_ms"] = percentiles(t.latency);
+    j["label_latency_ms"] = percentiles(t.label_latency);
+    j["label_window_end_latency_ms"] = percentiles(t.window_end_latency);
     j["labels"] = labels_.size();
     j["bad_every"] = bad_every_;
     j["bad_messages"] = bad_sent_;
     j["rss_mb"] = { { "first", samples_.empty() ? 0.0 : samples_.front().rss },
                     { "last", samples_.empty() ? 0.0 : samples_.back().rss },
-                    { "max", rss_max } };
+                    { "max", t.rss_max } };
     j["rss_growth_mb_per_1000_frames"] = rssGrowth(records_.size());
     j["sample_every"] = sample_every_;
     j["load_average_start"] = load_start_;
     j["load_average_end"] = loadAverage();
-
-    std::filesystem::create_directories(output_dir_);
-    const std::string dir = output_dir_ + "/";
-    writeTextAtomically(dir + "frames.csv", frames_csv.str());
-    writeTextAtomically(dir + "labels.csv", labels_csv.str());
-    writeTextAtomically(dir + "samples.csv", samples_csv.str());
-    writeTextAtomically(dir + "summary.json", j.dump(2) + "\n");  // last: its presence means the rest is there
-    NODELET_INFO("bench_player: %zu of %zu frames processed in %.1f s (%.1f fps, %.2f cores), latency median "
-                 "%.1f ms p95 %.1f ms; results in %s",
-                 processed, records_.size(), wall, wall > 0 ? processed / wall : 0.0, wall > 0 ? cpu / wall : 0.0,
-                 latency.empty() ? 0.0 : latency.median(), latency.empty() ? 0.0 : latency.p95(), dir.c_str());
+    return j;
   }
 
   // parameters

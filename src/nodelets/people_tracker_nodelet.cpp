@@ -96,30 +96,8 @@ class PeopleTrackerNodelet : public LazyNodelet
 
     boost::shared_ptr<const Cloud> cloud = in;
     Eigen::Vector3f camera = Eigen::Vector3f::Zero();
-    if (tf_buffer_)
-    {
-      try
-      {
-        const auto t = tf_buffer_->lookupTransform(fixed_frame_, header.frame_id, header.stamp,
-                                                   ros::Duration(tf_timeout_));
-        const Eigen::Affine3f pose = tf2::transformToEigen(t).cast<float>();
-        auto moved = boost::make_shared<Cloud>();
-        pcl::transformPointCloud(*in, *moved, pose);
-        cloud = moved;
-        camera = pose.translation();
-        header.frame_id = fixed_frame_;
-        // The fixed frame's z = 0 is the floor (REP 105: base_footprint, odom, map of a ground
-        // robot): the ground is known from tf, kept while the floor is hidden, refined where seen.
-        if (ground_from_fixed_frame_ && !ground_prior_set_)
-          ground_prior_set_ = tracker_->setGroundPrior(Eigen::Vector4f(0, 0, 1, 0), camera);
-      }
-      catch (const tf2::TransformException& e)
-      {
-        NODELET_ERROR_THROTTLE(5, "no transform from '%s' to fixed_frame '%s' (%s): cloud skipped",
-                               header.frame_id.c_str(), fixed_frame_.c_str(), e.what());
-        return;
-      }
-    }
+    if (tf_buffer_ && !toFixedFrame(header, cloud, camera))
+      return;
 
     TrackerResult result;
     try
@@ -136,6 +114,42 @@ class PeopleTrackerNodelet : public LazyNodelet
     if (!result.ground_valid)
       NODELET_WARN_THROTTLE(10, "no ground plane found yet (frame '%s')", header.frame_id.c_str());
 
+    publish(result, header, in);
+  }
+
+  /**
+   * Moves @p cloud into the fixed frame (and @p header with it), setting @p camera to the sensor's
+   * position there; false (logged) when tf has no transform for it.
+   */
+  bool toFixedFrame(std_msgs::Header& header, boost::shared_ptr<const Cloud>& cloud, Eigen::Vector3f& camera)
+  {
+    try
+    {
+      const auto t = tf_buffer_->lookupTransform(fixed_frame_, header.frame_id, header.stamp,
+                                                 ros::Duration(tf_timeout_));
+      const Eigen::Affine3f pose = tf2::transformToEigen(t).cast<float>();
+      auto moved = boost::make_shared<Cloud>();
+      pcl::transformPointCloud(*cloud, *moved, pose);
+      cloud = moved;
+      camera = pose.translation();
+      header.frame_id = fixed_frame_;
+      // The fixed frame's z = 0 is the floor (REP 105: base_footprint, odom, map of a ground
+      // robot): the ground is known from tf, kept while the floor is hidden, refined where seen.
+      if (ground_from_fixed_frame_ && !ground_prior_set_)
+        ground_prior_set_ = tracker_->setGroundPrior(Eigen::Vector4f(0, 0, 1, 0), camera);
+      return true;
+    }
+    catch (const tf2::TransformException& e)
+    {
+      NODELET_ERROR_THROTTLE(5, "no transform from '%s' to fixed_frame '%s' (%s): cloud skipped",
+                             header.frame_id.c_str(), fixed_frame_.c_str(), e.what());
+      return false;
+    }
+  }
+
+  /// The people clouds (sharing @p in, the input cloud) and the tracked people of one frame.
+  void publish(TrackerResult& result, const std_msgs::Header& header, const boost::shared_ptr<const Cloud>& in)
+  {
     auto out = boost::make_shared<PeopleClouds>();
     out->header = header;
     out->lost = result.lost;

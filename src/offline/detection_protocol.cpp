@@ -2,6 +2,7 @@
 #include "detection_protocol.h"
 
 #include "cli.h"
+#include "plot_script.h"
 
 #include <action_flow/files.h>
 #include <action_flow/synth/clutter.h>
@@ -11,7 +12,6 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <ros/package.h>
 
 #include <algorithm>
 #include <atomic>
@@ -250,12 +250,6 @@ json tallyJson(const DetectionTally& t)
   return j;
 }
 
-std::string scriptPath(const std::string& name)
-{
-  const std::string pkg = std::getenv("ROS_PACKAGE_PATH") ? ros::package::getPath("action_flow") : "";
-  return (pkg.empty() ? std::string(ACTION_FLOW_SOURCE_DIR) : pkg) + "/scripts/" + name;
-}
-
 std::vector<SceneOutcome> runAll(const std::vector<synth::SampleSpec>& specs, const TrackerParams& params, float gate,
                                  int jobs)
 {
@@ -399,11 +393,7 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
                 c.recall(), c.false_positives, c.misses, c.frames);
   std::printf("evaluate: report in %s/detection.json\n", dir.c_str());
   if (!args.has("no-plots"))
-  {
-    const std::string cmd = "/usr/bin/python3 '" + scriptPath("plot_detection.py") + "' '" + dir + "/detection.json'";
-    if (std::system(cmd.c_str()) != 0)
-      throw std::runtime_error("plotting failed: " + cmd);
-  }
+    runPlotScript("plot_detection.py", { dir + "/detection.json" });
   return 0;
 }
 

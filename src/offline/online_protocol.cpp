@@ -1,12 +1,12 @@
 #include "online_protocol.h"
 
 #include "cli.h"
+#include "plot_script.h"
 #include "extraction.h"
 
 #include <action_flow/files.h>
 #include <action_flow/synth/synth.h>
 
-#include <ros/package.h>
 
 #include <algorithm>
 #include <cmath>
@@ -87,6 +87,7 @@ struct OnlineSet
   std::set<std::string> tuners;      // training people whose streams choose the thresholds
   std::vector<synth::SampleSpec> tuning, test;
   std::vector<std::string> test_people;
+  std::string dataset;               // --synth: ias or msr
 };
 
 /** The training people whose streams choose the thresholds (--tuning-people, default a third): the last ones. */
@@ -169,11 +170,6 @@ OnlineSet msrSet(const Args& args, const std::vector<SampleRef>& samples, int st
   return out;
 }
 
-std::string scriptPath(const std::string& name)
-{
-  const std::string pkg = std::getenv("ROS_PACKAGE_PATH") ? ros::package::getPath("action_flow") : "";
-  return (pkg.empty() ? std::string(ACTION_FLOW_SOURCE_DIR) : pkg) + "/scripts/" + name;
-}
 }  // namespace
 
 std::vector<PredictedSegment> runPolicy(const std::shared_ptr<const ActionModel>& model, const PolicyParams& params,
@@ -304,7 +300,10 @@ void addOnlineOptions(Options& o)
                                    "trained on the other training people (default: a third)");
 }
 
-int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, const std::string& dir)
+namespace
+{
+/** --synth and the streams' options, then the route's training samples and streams. */
+OnlineSet onlineSet(const Args& args, const std::vector<SampleRef>& samples, int& max_frames)
 {
   const std::string dataset = args.get("synth");
   if (dataset != "ias" && dataset != "msr")
@@ -312,55 +311,194 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, c
   const int streams = static_cast<int>(args.integer("streams", 1, 1, 20));
   const int actions = static_cast<int>(args.integer("stream-actions", 8, 2, 40));
   const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1000000000));
-  const int max_frames = static_cast<int>(args.integer("max-frames", 0, 0, 100000));
-  const OnlineSet set = dataset == "ias" ? iasSet(args, samples, streams, actions, seed)
-                                         : msrSet(args, samples, streams, actions, seed);
-  const std::vector<SampleRef>& training = set.training;
-  const std::set<std::string>& tuners = set.tuners;
+  max_frames = static_cast<int>(args.integer("max-frames", 0, 0, 100000));
+  OnlineSet set = dataset == "ias" ? iasSet(args, samples, streams, actions, seed)
+                                   : msrSet(args, samples, streams, actions, seed);
+  set.dataset = dataset;
+  return set;
+}
 
-  // Streams: of the tuning people, then of the people tested.
-  std::vector<synth::SampleSpec> specs = set.tuning;
-  const std::size_t tuning_streams = specs.size();
-  specs.insert(specs.end(), set.test.begin(), set.test.end());
-  std::vector<SampleRef> stream_refs;
-  for (auto& s : specs)
+/** The streams of a run, rendered: of the tuning people, then of the people tested. */
+struct OnlineStreams
+{
+  std::vector<synth::SampleSpec> specs;
+  std::size_t tuning = 0;  // the first ones, of the tuning people
+  std::vector<SampleRef> refs;
+};
+
+OnlineStreams renderStreams(const OnlineSet& set, int max_frames)
+{
+  OnlineStreams out;
+  out.specs = set.tuning;
+  out.tuning = out.specs.size();
+  out.specs.insert(out.specs.end(), set.test.begin(), set.test.end());
+  for (auto& s : out.specs)
   {
     s.max_frames = max_frames;
-    stream_refs.push_back(renderedSample(s));
+    out.refs.push_back(renderedSample(s));
   }
+  return out;
+}
 
+/** The descriptor sets the variants read: the paper's SUMFLOW (0) and posture_flow (1). */
+std::vector<RecognitionParams> onlineExtractions(const Args& args)
+{
   RecognitionParams sum = methodParams(args), pf = sum;
   sum.recognizer = Recognizer::Paper;
   sum.grid.aggregation = FlowAggregation::Sum;
   sum.use_pca = false;
   pf.recognizer = Recognizer::PostureFlow;
-  const std::vector<RecognitionParams> extractions = { sum, pf };
+  return { sum, pf };
+}
+
+/** --variants, of posture_flow and sumflow. */
+std::vector<std::string> onlineVariants(const Args& args)
+{
   const std::vector<std::string> variants = splitList(args.get("variants", "posture_flow,sumflow"));
   for (const auto& v : variants)
     if (v != "posture_flow" && v != "sumflow")
-      throw UsageError("--protocol online runs the variants posture_flow and sumflow, not '" + v + "'");
+      throw UsageError("--protocol online runs the variants posture_flow and sumflow, not '" +
+                       v + "'");
+  return variants;
+}
+
+/** What every variant of a run reads: the training samples, the streams and their descriptors. */
+struct OnlineRun
+{
+  const std::vector<SampleRef>& training;
+  const OnlineStreams& streams;
+  const std::vector<RecognitionParams>& extractions;
+  const std::vector<std::vector<SampleFrames>>& train_frames;   // per extraction, per sample
+  const std::vector<std::vector<SampleFrames>>& stream_frames;  // per extraction, per stream
+  std::vector<std::size_t> all_rows;    // every training sample
+  std::vector<std::size_t> inner_rows;  // those of no tuning person
+};
+
+/** One stream's rows of timeline.csv: its truth, then the labels predicted. */
+void appendTimeline(std::string& timeline, const std::string& name,
+                    const std::vector<TruthSegment>& truth,
+                    const std::vector<PredictedSegment>& predicted)
+{
+  for (const auto& t : truth)
+    timeline += name + ",truth," + t.label + "," + std::to_string(t.start) + "," +
+                std::to_string(t.end) + ",\n";
+  for (const auto& p : predicted)
+    timeline += name + ",predicted," + p.label + "," + std::to_string(p.start) + "," +
+                std::to_string(p.end) + "," + std::to_string(p.published) + "\n";
+}
+
+/**
+ * The chosen policy of variant @p v on each test stream: its scores into @p scores, its truth and
+ * labels into @p timeline; returns the streams' report entries.
+ */
+json testStreams(const std::shared_ptr<const ActionModel>& model, const PolicyParams& chosen,
+                 const std::vector<StreamCase>& test, const std::string& v,
+                 std::vector<StreamScore>& scores, std::string& timeline)
+{
+  json per_stream = json::array();
+  for (const StreamCase& c : test)
+  {
+    const auto predicted = runPolicy(model, chosen, *c.frames);
+    scores.push_back(scoreCase(c, predicted));
+    const std::set<std::uint32_t> ids(c.frames->tracks.begin(), c.frames->tracks.end());
+    per_stream.push_back({ { "stream", c.name }, { "descriptors", c.frames->stamps.size() },
+                           { "tracks", ids.size() }, { "frames", c.frame_stamps.size() },
+                           { "score", scoreJson(scores.back()) } });
+    appendTimeline(timeline, v + "_" + c.name, c.truth, predicted);
+  }
+  return per_stream;
+}
+
+void printVariantScore(const std::string& v, const StreamScore& all)
+{
+  std::printf("%-14s segment F1@0.5 %.2f (P %.2f R %.2f), frame accuracy %.1f%%, "
+              "%.1f false labels/min in idle (%.1f/min overall), "
+              "median latency %.2f s from the start, %.2f s from the end\n",
+              v.c_str(), all.f1, all.precision, all.recall, 100 * all.frame_accuracy,
+              all.idle_false_per_minute(), all.false_per_minute(), median(all.start_latency),
+              median(all.end_latency));
+}
+
+/**
+ * Variant @p v: the policy's thresholds chosen on the tuning streams with a model trained without
+ * the tuning people, then the model of every training sample on the test streams; returns its
+ * report entry and adds its test streams to @p timeline.
+ */
+json onlineVariant(const OnlineRun& run, const std::string& v, std::string& timeline)
+{
+  const std::size_t e = v == "sumflow" ? 0 : 1;
+  std::vector<LabelledSample> labelled;
+  for (std::size_t i = 0; i < run.training.size(); ++i)
+    labelled.push_back({ run.training[i].person, run.training[i].action, &run.train_frames[e][i] });
+  const auto cases = streamCases(run.streams.specs, run.stream_frames[e]);
+  const auto first_test = cases.begin() + static_cast<long>(run.streams.tuning);
+  const std::vector<StreamCase> tuning(cases.begin(), first_test);
+  const std::vector<StreamCase> test(first_test, cases.end());
+
+  const RecognitionParams& params = run.extractions[e];
+  auto tuning_model =
+      std::make_shared<const ActionModel>(trainModel(labelled, run.inner_rows, params));
+  StreamScore tuning_score;
+  const PolicyParams chosen =
+      choosePolicy(tuning_model, tuning, policyCandidates(params.recognizer), &tuning_score);
+  auto model = std::make_shared<const ActionModel>(trainModel(labelled, run.all_rows, params));
+
+  std::vector<StreamScore> scores;
+  const json per_stream = testStreams(model, chosen, test, v, scores, timeline);
+  const StreamScore all = combineScores(scores);
+  printVariantScore(v, all);
+  return { { "variant", v },
+           { "policy", policyJson(chosen) },
+           { "tuning_score", scoreJson(tuning_score) },
+           { "test", scoreJson(all) },
+           { "streams", per_stream } };
+}
+
+/** OUTPUT/online.json and OUTPUT/timeline.csv, then (unless --no-plots) the timeline pictures. */
+void writeOnlineReport(const Args& args, const std::string& dir, const json& report,
+                       const std::string& timeline)
+{
+  ::mkdir(dir.c_str(), 0755);
+  writeTextAtomically(dir + "/online.json", report.dump(2) + "\n");
+  writeTextAtomically(dir + "/timeline.csv", timeline);
+  std::printf("evaluate: report in %s/online.json\n", dir.c_str());
+  if (!args.has("no-plots"))
+    runPlotScript("plot_timeline.py", { dir + "/timeline.csv", dir });
+}
+}  // namespace
+
+int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, const std::string& dir)
+{
+  int max_frames = 0;
+  const OnlineSet set = onlineSet(args, samples, max_frames);
+  const std::vector<SampleRef>& training = set.training;
+  const std::set<std::string>& tuners = set.tuners;
+  const OnlineStreams streams = renderStreams(set, max_frames);
+  const std::vector<RecognitionParams> extractions = onlineExtractions(args);
+  const std::vector<std::string> variants = onlineVariants(args);
 
   std::fprintf(stderr,
-               "evaluate: online protocol (%s): %zu training samples of %zu people; thresholds chosen on %zu streams "
-               "of %zu of them; tested on %zu streams of %zu new people\n",
-               dataset.c_str(), training.size(), set.people.size(), tuning_streams, tuners.size(),
-               specs.size() - tuning_streams, set.test_people.size());
+               "evaluate: online protocol (%s): %zu training samples of %zu people; "
+               "thresholds chosen on %zu streams of %zu of them; "
+               "tested on %zu streams of %zu new people\n",
+               set.dataset.c_str(), training.size(), set.people.size(), streams.tuning,
+               tuners.size(), streams.specs.size() - streams.tuning, set.test_people.size());
   const TrackerParams tracker = trackerParams(args);
   const int jobs = jobsOption(args);
   installInterruptHandler();
   const auto train_frames = extractAll(training, extractions, tracker, cacheDir(args), jobs);
   refuseEmptySamples(training, train_frames[0], args.has("allow-empty"));
-  const auto stream_frames = extractAll(stream_refs, extractions, tracker, cacheDir(args), jobs);
+  const auto stream_frames = extractAll(streams.refs, extractions, tracker, cacheDir(args), jobs);
 
-  std::vector<std::size_t> all_rows, inner_rows;
+  OnlineRun run{ training, streams, extractions, train_frames, stream_frames, {}, {} };
   for (std::size_t i = 0; i < training.size(); ++i)
   {
-    all_rows.push_back(i);
+    run.all_rows.push_back(i);
     if (!tuners.count(training[i].person))
-      inner_rows.push_back(i);
+      run.inner_rows.push_back(i);
   }
   json report = { { "protocol", "online" },
-                  { "dataset", dataset },
+                  { "dataset", set.dataset },
                   { "training", { { "samples", training.size() }, { "people", set.people } } },
                   { "tuning_people", std::vector<std::string>(tuners.begin(), tuners.end()) },
                   { "test_people", set.test_people },
@@ -368,60 +506,9 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, c
   json results = json::array();
   std::string timeline = "stream,kind,label,start,end,published\n";
   for (const std::string& v : variants)
-  {
-    const std::size_t e = v == "sumflow" ? 0 : 1;
-    std::vector<LabelledSample> labelled;
-    for (std::size_t i = 0; i < training.size(); ++i)
-      labelled.push_back({ training[i].person, training[i].action, &train_frames[e][i] });
-    const auto cases = streamCases(specs, stream_frames[e]);
-    const std::vector<StreamCase> tuning(cases.begin(), cases.begin() + static_cast<long>(tuning_streams));
-    const std::vector<StreamCase> test(cases.begin() + static_cast<long>(tuning_streams), cases.end());
-
-    auto tuning_model = std::make_shared<const ActionModel>(trainModel(labelled, inner_rows, extractions[e]));
-    StreamScore tuning_score;
-    const PolicyParams chosen =
-        choosePolicy(tuning_model, tuning, policyCandidates(extractions[e].recognizer), &tuning_score);
-    auto model = std::make_shared<const ActionModel>(trainModel(labelled, all_rows, extractions[e]));
-
-    std::vector<StreamScore> scores;
-    json per_stream = json::array();
-    for (const StreamCase& c : test)
-    {
-      const auto predicted = runPolicy(model, chosen, *c.frames);
-      scores.push_back(scoreCase(c, predicted));
-      const std::set<std::uint32_t> ids(c.frames->tracks.begin(), c.frames->tracks.end());
-      per_stream.push_back({ { "stream", c.name }, { "descriptors", c.frames->stamps.size() }, { "tracks", ids.size() },
-                             { "frames", c.frame_stamps.size() }, { "score", scoreJson(scores.back()) } });
-      const std::string name = v + "_" + c.name;
-      for (const auto& t : c.truth)
-        timeline += name + ",truth," + t.label + "," + std::to_string(t.start) + "," + std::to_string(t.end) + ",\n";
-      for (const auto& p : predicted)
-        timeline += name + ",predicted," + p.label + "," + std::to_string(p.start) + "," + std::to_string(p.end) + "," +
-                    std::to_string(p.published) + "\n";
-    }
-    const StreamScore all = combineScores(scores);
-    results.push_back({ { "variant", v },
-                        { "policy", policyJson(chosen) },
-                        { "tuning_score", scoreJson(tuning_score) },
-                        { "test", scoreJson(all) },
-                        { "streams", per_stream } });
-    std::printf("%-14s segment F1@0.5 %.2f (P %.2f R %.2f), frame accuracy %.1f%%, %.1f false labels/min in idle "
-                "(%.1f/min overall), median latency %.2f s from the start, %.2f s from the end\n",
-                v.c_str(), all.f1, all.precision, all.recall, 100 * all.frame_accuracy, all.idle_false_per_minute(),
-                all.false_per_minute(), median(all.start_latency), median(all.end_latency));
-  }
+    results.push_back(onlineVariant(run, v, timeline));
   report["variants"] = results;
-  ::mkdir(dir.c_str(), 0755);
-  writeTextAtomically(dir + "/online.json", report.dump(2) + "\n");
-  writeTextAtomically(dir + "/timeline.csv", timeline);
-  std::printf("evaluate: report in %s/online.json\n", dir.c_str());
-  if (!args.has("no-plots"))
-  {
-    const std::string cmd = "/usr/bin/python3 '" + scriptPath("plot_timeline.py") + "' '" + dir + "/timeline.csv' '" +
-                            dir + "'";
-    if (std::system(cmd.c_str()) != 0)
-      throw std::runtime_error("plotting failed: " + cmd);
-  }
+  writeOnlineReport(args, dir, report, timeline);
   return 0;
 }
 

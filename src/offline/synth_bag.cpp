@@ -134,8 +134,8 @@ struct BagSource
   std::function<std::string(int)> action;
 };
 
-bool writeBag(const BagSource& src, const std::string& path, const BagOptions& o, const std::atomic<bool>* cancel,
-              const std::function<void()>& on_frame)
+/** The bag compression @p o names; throws on an unknown one or image settings out of range. */
+rosbag::CompressionType bagCompression(const BagOptions& o)
 {
   rosbag::CompressionType compression;
   if (o.compression == "none")
@@ -148,33 +148,150 @@ bool writeBag(const BagSource& src, const std::string& path, const BagOptions& o
     throw std::runtime_error("unknown bag compression '" + o.compression + "' (none, lz4, bz2)");
   if (o.jpeg_quality < 1 || o.jpeg_quality > 100 || o.png_level < 0 || o.png_level > 9)
     throw std::runtime_error("jpeg quality must be 1..100 and png level 0..9");
+  return compression;
+}
 
+/** The camera_info of @p cam, without stamp and sequence number. */
+sensor_msgs::CameraInfo cameraInfo(const CameraModel& cam)
+{
+  sensor_msgs::CameraInfo info;
+  info.header.frame_id = kRgbFrame;
+  info.width = std::uint32_t(cam.width);
+  info.height = std::uint32_t(cam.height);
+  info.distortion_model = "plumb_bob";
+  info.D.assign(5, 0.0);
+  info.K = { cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1 };
+  info.R = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
+  info.P = { cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0 };
+  return info;
+}
+
+/** Writes @p im's colour, depth (@p mm, millimetres) and mask as raw sensor_msgs/Image. */
+void writeRawImages(rosbag::Bag& bag, const BagOptions& o, const std_msgs::Header& header,
+                    const FrameImages& im, const std::vector<std::uint16_t>& mm, int w, int h)
+{
+  sensor_msgs::Image rgb, depth, mask;
+  rgb.header = depth.header = mask.header = header;
+  rgb.width = depth.width = mask.width = std::uint32_t(w);
+  rgb.height = depth.height = mask.height = std::uint32_t(h);
+  rgb.encoding = "rgb8";
+  rgb.step = std::uint32_t(3 * w);
+  rgb.data = im.rgb;
+  depth.encoding = "16UC1";
+  depth.step = std::uint32_t(2 * w);
+  depth.data.resize(mm.size() * 2);
+  std::memcpy(depth.data.data(), mm.data(), depth.data.size());
+  mask.encoding = "mono8";
+  mask.step = std::uint32_t(w);
+  mask.data = im.mask;
+  bag.write(o.rgb_topic, header.stamp, rgb);
+  bag.write(o.depth_topic, header.stamp, depth);
+  bag.write(o.mask_topic, header.stamp, mask);
+}
+
+/** Writes @p im's colour (JPEG), depth (@p mm, 16-bit PNG) and mask (PNG) on /compressed topics. */
+void writeCompressedImages(rosbag::Bag& bag, const BagOptions& o, const std_msgs::Header& header,
+                           const FrameImages& im, const std::vector<std::uint16_t>& mm,
+                           int w, int h)
+{
+  sensor_msgs::CompressedImage rgb, depth, mask;
+  rgb.header = depth.header = mask.header = header;
+  rgb.format = "rgb8; jpeg compressed bgr8";
+  rgb.data = encodeJpeg(im.rgb, w, h, o.jpeg_quality);
+  depth.format = "16UC1; png compressed 16UC1";
+  depth.data = encodePng16(mm, w, h, o.png_level);
+  mask.format = "mono8; png compressed mono8";
+  mask.data = encodePng8(im.mask, w, h, o.png_level);
+  bag.write(o.rgb_topic + "/compressed", header.stamp, rgb);
+  bag.write(o.depth_topic + "/compressed", header.stamp, depth);
+  bag.write(o.mask_topic + "/compressed", header.stamp, mask);
+}
+
+/**
+ * The tf of one frame: the static camera frames as openni.launch published them, the camera's
+ * pose over the floor ("world": origin on the floor below the camera, z up) as ground truth, and
+ * openni_tracker's joints of @p users.
+ */
+tf2_msgs::TFMessage frameTransforms(const ros::Time& stamp, const CameraModel& cam,
+                                    const std::vector<std::pair<int, Skeleton>>& users)
+{
+  const Eigen::Quaternionf optical(0.5f, -0.5f, 0.5f, -0.5f);  // rpy (-pi/2, 0, -pi/2)
+  const Eigen::Quaternionf pitch(Eigen::AngleAxisf(float(cam.tilt), Eigen::Vector3f::UnitY()));
+  const Eigen::Vector3f zero = Eigen::Vector3f::Zero();
+  const Eigen::Quaternionf id = Eigen::Quaternionf::Identity();
+  tf2_msgs::TFMessage tf;
+  tf.transforms.push_back(transform(stamp, "world", "camera_link",
+                                    Eigen::Vector3f(0, 0, float(cam.height_above_floor)), pitch));
+  tf.transforms.push_back(transform(stamp, "camera_link", "camera_rgb_frame", zero, id));
+  tf.transforms.push_back(transform(stamp, "camera_rgb_frame", kRgbFrame, zero, optical));
+  tf.transforms.push_back(transform(stamp, "camera_link", "camera_depth_frame", zero, id));
+  tf.transforms.push_back(
+      transform(stamp, "camera_depth_frame", "camera_depth_optical_frame", zero, optical));
+  tf.transforms.push_back(transform(stamp, "camera_link", "openni_depth_frame", zero, id));
+  // openni_tracker's frames: each user's joints under openni_depth_frame (x forward, y left, z up).
+  for (const auto& [user, sk] : users)
+    for (int k = 0; k < kJointCount; ++k)
+    {
+      const Eigen::Vector3f& p = sk.joints[k];
+      const std::string joint = jointName(Joint(k)) + "_" + std::to_string(user);
+      const Eigen::Vector3f position(p.z(), -p.x(), -p.y());
+      tf.transforms.push_back(transform(stamp, "openni_depth_frame", joint, position, id));
+    }
+  return tf;
+}
+
+/**
+ * Renders frame @p i of @p src into @p im and writes its messages: images, camera_info (@p info,
+ * restamped), tf, and the cloud (through @p cloud) and action when asked for.
+ */
+void writeFrame(rosbag::Bag& bag, const BagSource& src, const BagOptions& o, int i,
+                sensor_msgs::CameraInfo& info, FrameImages& im, Cloud& cloud)
+{
+  const ros::Time stamp(src.stamp(i));
+  src.render(i, im);
+
+  std_msgs::Header header;
+  header.stamp = stamp;
+  header.seq = std::uint32_t(i);
+  header.frame_id = kRgbFrame;
+  const std::vector<std::uint16_t> mm = depthToMillimetres(im.depth);
+  if (o.raw_images)
+    writeRawImages(bag, o, header, im, mm, src.camera.width, src.camera.height);
+  else
+    writeCompressedImages(bag, o, header, im, mm, src.camera.width, src.camera.height);
+  info.header.stamp = stamp;
+  info.header.seq = std::uint32_t(i);
+  bag.write(o.info_topic, stamp, info);
+  bag.write(o.tf_topic, stamp, frameTransforms(stamp, src.camera, src.users(i)));
+
+  if (o.points)
+  {
+    src.scene.toCloud(im, cloud);
+    cloud.header.stamp = std::uint64_t(std::llround(src.stamp(i) * 1e6));
+    sensor_msgs::PointCloud2 msg;
+    pcl::toROSMsg(cloud, msg);
+    msg.header = header;
+    bag.write(o.points_topic, stamp, msg);
+  }
+  if (src.action)
+  {
+    std_msgs::String action;
+    action.data = src.action(i);
+    bag.write(o.action_topic, stamp, action);
+  }
+}
+
+bool writeBag(const BagSource& src, const std::string& path, const BagOptions& o, const std::atomic<bool>* cancel,
+              const std::function<void()>& on_frame)
+{
+  const rosbag::CompressionType compression = bagCompression(o);
   const std::string tmp = path + ".tmp";
-  const CameraModel& cam = src.camera;
-  const int w = cam.width, h = cam.height;
   try
   {
     tools::GuardedBag guarded(tmp, rosbag::bagmode::Write);
     rosbag::Bag& bag = *guarded;
     bag.setCompression(compression);
-
-    sensor_msgs::CameraInfo info;
-    info.header.frame_id = kRgbFrame;
-    info.width = std::uint32_t(w);
-    info.height = std::uint32_t(h);
-    info.distortion_model = "plumb_bob";
-    info.D.assign(5, 0.0);
-    info.K = { cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1 };
-    info.R = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
-    info.P = { cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0 };
-
-    // Static camera frames as openni.launch published them, plus the camera's pose over the floor
-    // ("world": origin on the floor below the camera, z up) as ground truth.
-    const Eigen::Quaternionf optical(0.5f, -0.5f, 0.5f, -0.5f);  // rpy (-pi/2, 0, -pi/2)
-    const Eigen::Quaternionf pitch(Eigen::AngleAxisf(float(cam.tilt), Eigen::Vector3f::UnitY()));
-    const Eigen::Vector3f zero = Eigen::Vector3f::Zero();
-    const Eigen::Quaternionf id = Eigen::Quaternionf::Identity();
-
+    sensor_msgs::CameraInfo info = cameraInfo(src.camera);
     FrameImages im;
     Cloud cloud;
     for (int i = 0; i < src.frames; ++i)
@@ -185,85 +302,7 @@ bool writeBag(const BagSource& src, const std::string& path, const BagOptions& o
         std::remove(tmp.c_str());
         return false;
       }
-      const ros::Time stamp(src.stamp(i));
-      src.render(i, im);
-
-      std_msgs::Header header;
-      header.stamp = stamp;
-      header.seq = std::uint32_t(i);
-      header.frame_id = kRgbFrame;
-      const std::vector<std::uint16_t> mm = depthToMillimetres(im.depth);
-      if (o.raw_images)
-      {
-        sensor_msgs::Image rgb, depth, mask;
-        rgb.header = depth.header = mask.header = header;
-        rgb.width = depth.width = mask.width = std::uint32_t(w);
-        rgb.height = depth.height = mask.height = std::uint32_t(h);
-        rgb.encoding = "rgb8";
-        rgb.step = std::uint32_t(3 * w);
-        rgb.data = im.rgb;
-        depth.encoding = "16UC1";
-        depth.step = std::uint32_t(2 * w);
-        depth.data.resize(mm.size() * 2);
-        std::memcpy(depth.data.data(), mm.data(), depth.data.size());
-        mask.encoding = "mono8";
-        mask.step = std::uint32_t(w);
-        mask.data = im.mask;
-        bag.write(o.rgb_topic, stamp, rgb);
-        bag.write(o.depth_topic, stamp, depth);
-        bag.write(o.mask_topic, stamp, mask);
-      }
-      else
-      {
-        sensor_msgs::CompressedImage rgb, depth, mask;
-        rgb.header = depth.header = mask.header = header;
-        rgb.format = "rgb8; jpeg compressed bgr8";
-        rgb.data = encodeJpeg(im.rgb, w, h, o.jpeg_quality);
-        depth.format = "16UC1; png compressed 16UC1";
-        depth.data = encodePng16(mm, w, h, o.png_level);
-        mask.format = "mono8; png compressed mono8";
-        mask.data = encodePng8(im.mask, w, h, o.png_level);
-        bag.write(o.rgb_topic + "/compressed", stamp, rgb);
-        bag.write(o.depth_topic + "/compressed", stamp, depth);
-        bag.write(o.mask_topic + "/compressed", stamp, mask);
-      }
-      info.header.stamp = stamp;
-      info.header.seq = std::uint32_t(i);
-      bag.write(o.info_topic, stamp, info);
-
-      tf2_msgs::TFMessage tf;
-      tf.transforms.push_back(transform(stamp, "world", "camera_link",
-                                        Eigen::Vector3f(0, 0, float(cam.height_above_floor)), pitch));
-      tf.transforms.push_back(transform(stamp, "camera_link", "camera_rgb_frame", zero, id));
-      tf.transforms.push_back(transform(stamp, "camera_rgb_frame", kRgbFrame, zero, optical));
-      tf.transforms.push_back(transform(stamp, "camera_link", "camera_depth_frame", zero, id));
-      tf.transforms.push_back(transform(stamp, "camera_depth_frame", "camera_depth_optical_frame", zero, optical));
-      tf.transforms.push_back(transform(stamp, "camera_link", "openni_depth_frame", zero, id));
-      // openni_tracker's frames: each user's joints under openni_depth_frame (x forward, y left, z up).
-      for (const auto& [user, sk] : src.users(i))
-        for (int k = 0; k < kJointCount; ++k)
-        {
-          const Eigen::Vector3f& p = sk.joints[k];
-          tf.transforms.push_back(transform(stamp, "openni_depth_frame", jointName(Joint(k)) + "_" + std::to_string(user),
-                                            Eigen::Vector3f(p.z(), -p.x(), -p.y()), id));
-        }
-      bag.write(o.tf_topic, stamp, tf);
-
-      if (o.points)
-      {
-        src.scene.toCloud(im, cloud);
-        cloud.header.stamp = std::uint64_t(std::llround(src.stamp(i) * 1e6));
-        sensor_msgs::PointCloud2 msg;
-        pcl::toROSMsg(cloud, msg);
-        msg.header = header;
-        bag.write(o.points_topic, stamp, msg);
-      }
-      if (src.action)
-      {
-        std_msgs::String action;
-        action.data = src.action(i);
-        bag.write(o.action_topic, stamp, action);
-      }
+      writeFrame(bag, src, o, i, info, im, cloud);
       if (on_frame)
         on_frame();
     }

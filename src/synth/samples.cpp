@@ -444,17 +444,17 @@ void SampleRenderer::Impl::buildStream()
   scene.reset(new SceneRenderer(camera, room));
 }
 
-MsrMotion msrMotion(const MsrSkeletonFile& file, double fps)
+namespace
+{
+// The file's skeletons in the MSR camera's frame; untracked frames interpolated between the
+// nearest tracked ones, held at the ends. @p tracked receives the tracked frames' indices.
+std::vector<Skeleton> msrCameraSkeletons(const MsrSkeletonFile& file, std::vector<int>& tracked)
 {
   const int n = int(file.frames.size());
-  if (file.trackedFrames() == 0)
-    throw std::runtime_error(file.path + ": no tracked frame (all joints zero)");
   std::vector<Skeleton> cam(n);
   for (int f = 0; f < n; ++f)
     if (file.tracked[f])
       cam[f] = msrToOpenNi(file.frames[f]);
-  // Untracked frames: interpolate between the nearest tracked ones, hold at the ends.
-  std::vector<int> tracked;
   for (int f = 0; f < n; ++f)
     if (file.tracked[f])
       tracked.push_back(f);
@@ -475,8 +475,13 @@ MsrMotion msrMotion(const MsrSkeletonFile& file, double fps)
         cam[f].joints[k] = cam[a].joints[k] + t * (cam[b].joints[k] - cam[a].joints[k]);
     }
   }
-  // The recording camera's pitch: people start upright, so the mean trunk of the first tracked
-  // frames gives "up".
+  return cam;
+}
+
+// The rotation that undoes the recording camera's pitch: people start upright, so the mean
+// trunk of the first tracked frames gives "up".
+Eigen::Matrix3f msrLevelling(const std::vector<Skeleton>& cam, const std::vector<int>& tracked)
+{
   Eigen::Vector3f up = Eigen::Vector3f::Zero();
   for (size_t k = 0; k < std::min<size_t>(5, tracked.size()); ++k)
   {
@@ -486,8 +491,18 @@ MsrMotion msrMotion(const MsrSkeletonFile& file, double fps)
   up.x() = 0;
   Eigen::Matrix3f level = Eigen::Matrix3f::Identity();
   if (up.norm() > 1e-3f)
-    level = Eigen::Quaternionf::FromTwoVectors(up.normalized(), Eigen::Vector3f::UnitY()).toRotationMatrix();
+    level = Eigen::Quaternionf::FromTwoVectors(up.normalized(), Eigen::Vector3f::UnitY())
+                .toRotationMatrix();
+  return level;
+}
+
+// Levelled camera skeletons in our world, the feet on the floor; @p height receives the body's
+// height estimated from them.
+std::vector<Skeleton> msrWorldOnFloor(const std::vector<Skeleton>& cam,
+                                      const Eigen::Matrix3f& level, float& height)
+{
   // MSR camera (x right, y up, z away) to our world (x away, y left, z up).
+  const int n = int(cam.size());
   std::vector<Skeleton> w(n);
   std::vector<float> foot_z, head_h;
   for (int f = 0; f < n; ++f)
@@ -505,13 +520,18 @@ MsrMotion msrMotion(const MsrSkeletonFile& file, double fps)
   std::sort(sorted.begin(), sorted.end());
   const float floor_z = sorted[sorted.size() / 20];
   std::sort(head_h.begin(), head_h.end());
-  MsrMotion out;
-  out.height = std::clamp(head_h[head_h.size() / 2] / 0.89f, 1.45f, 2.05f);
-  const float ankle = 0.039f * out.height;
+  height = std::clamp(head_h[head_h.size() / 2] / 0.89f, 1.45f, 2.05f);
+  const float ankle = 0.039f * height;
   for (auto& s : w)
     for (auto& p : s.joints)
       p.z() += ankle - floor_z;
-  // 15 fps to the camera's rate, linearly.
+  return w;
+}
+
+// @p w (15 fps) to the camera's rate, linearly, with each frame's facing.
+void resampleMsr(const std::vector<Skeleton>& w, double fps, MsrMotion& out)
+{
+  const int n = int(w.size());
   const double ratio = 15.0 / fps;
   const int out_n = std::max(1, int(std::floor((n - 1) / ratio)) + 1);
   out.joints.resize(out_n);
@@ -524,11 +544,27 @@ MsrMotion msrMotion(const MsrSkeletonFile& file, double fps)
     for (int k = 0; k < kJointCount; ++k)
       out.joints[i].joints[k] = w[a].joints[k] + t * (w[b].joints[k] - w[a].joints[k]);
     const Skeleton& s = out.joints[i];
-    const Eigen::Vector3f left = (s[Joint::LeftShoulder] - s[Joint::RightShoulder]) + (s[Joint::LeftHip] - s[Joint::RightHip]);
+    const Eigen::Vector3f left = (s[Joint::LeftShoulder] - s[Joint::RightShoulder]) +
+                                 (s[Joint::LeftHip] - s[Joint::RightHip]);
     Eigen::Vector3f fwd = left.cross(Eigen::Vector3f::UnitZ());
     fwd.z() = 0;
-    out.forward[i] = fwd.norm() > 1e-4f ? Eigen::Vector3f(fwd.normalized()) : Eigen::Vector3f(-1, 0, 0);
+    out.forward[i] =
+        fwd.norm() > 1e-4f ? Eigen::Vector3f(fwd.normalized()) : Eigen::Vector3f(-1, 0, 0);
   }
+}
+
+}  // namespace
+
+MsrMotion msrMotion(const MsrSkeletonFile& file, double fps)
+{
+  if (file.trackedFrames() == 0)
+    throw std::runtime_error(file.path + ": no tracked frame (all joints zero)");
+  std::vector<int> tracked;
+  const std::vector<Skeleton> cam = msrCameraSkeletons(file, tracked);
+  const Eigen::Matrix3f level = msrLevelling(cam, tracked);
+  MsrMotion out;
+  const std::vector<Skeleton> w = msrWorldOnFloor(cam, level, out.height);
+  resampleMsr(w, fps, out);
   return out;
 }
 

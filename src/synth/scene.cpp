@@ -166,6 +166,28 @@ struct Prim
   int u0 = 0, u1 = -1, v0 = 0, v1 = -1;  // image box (inclusive)
 };
 
+// A body's joints and axes in the camera's optical frame, and the list its volumes go to.
+struct OpticalBody
+{
+  OpticalBody(const PosedBody& posed, std::vector<Prim>& out,
+              const Eigen::Isometry3f& optical_from_world)
+    : body(posed), prims(out)
+  {
+    for (int k = 0; k < kJointCount; ++k)
+      s.joints[k] = optical_from_world * body.joints.joints[k];
+    fwd = optical_from_world.linear() * body.forward;
+    up_world = optical_from_world.linear() * Eigen::Vector3f::UnitZ();
+    sc = body.shape.height / 1.75f;
+    b = body.shape.build;
+  }
+
+  const PosedBody& body;
+  std::vector<Prim>& prims;
+  Skeleton s;
+  Eigen::Vector3f fwd, up_world;
+  float sc, b;  // size scale (height / 1.75 m), build
+};
+
 }  // namespace
 
 Eigen::Isometry3f CameraModel::worldFromOptical() const
@@ -264,9 +286,23 @@ struct SceneRenderer::Impl
 
   void castRoom(const Room& room);
   void buildPrims(const PosedBody& body, std::vector<Prim>& prims) const;
+  // Steps of buildPrims; the capsule's pointer stays valid while prims has room reserved.
+  Prim* addCapsule(OpticalBody& ob, Part part, const Eigen::Vector3f& from,
+                   const Eigen::Vector3f& to, float radius) const;
+  void addEllipsoid(OpticalBody& ob, Part part, const Eigen::Vector3f& center,
+                    const Eigen::Matrix3f& rot, const Eigen::Vector3f& axes,
+                    const Eigen::Vector3f& tex_origin) const;
+  Eigen::Matrix3f addTrunkAndHead(OpticalBody& ob) const;  // returns the hips' frame
+  void addLimbs(OpticalBody& ob, int side, const Eigen::Matrix3f& hips) const;
   void drawPrim(const Prim& p, std::vector<float>& depth, std::vector<std::uint8_t>& rgb,
                 std::vector<std::uint8_t>& mask) const;
   Rgb primColor(const Prim& p, const Eigen::Vector3f& hit, const Eigen::Vector3f& normal) const;
+  // Steps of render: the exact images, then the sensor model on depth and on colour.
+  void drawBodies(const std::vector<PosedBody>& bodies, std::vector<float>& exact,
+                  FrameImages& out) const;
+  void sensorDepth(const std::vector<float>& exact, const std::vector<std::uint8_t>& mask,
+                   std::uint64_t frame_key, std::vector<float>& depth) const;
+  void addColorNoise(std::uint64_t frame_key, std::vector<std::uint8_t>& rgb) const;
   void setBox(Prim& p) const;
 };
 
@@ -303,6 +339,105 @@ SceneRenderer& SceneRenderer::operator=(SceneRenderer&&) noexcept = default;
 const CameraModel& SceneRenderer::camera() const { return impl_->cam; }
 const std::vector<float>& SceneRenderer::roomDepth() const { return impl_->room_depth; }
 
+namespace
+{
+// A room box with its axes in the world frame.
+struct BoxFrame
+{
+  Eigen::Matrix3f rot;  // box axes in world
+  const Box* box;
+};
+
+// The nearest room surface along a camera ray so far.
+struct RoomHit
+{
+  float t = kInf;  // optical depth
+  Eigen::Vector3f normal = Eigen::Vector3f(0, 0, 1), local = Eigen::Vector3f(0, 0, 0);
+  const Material* mat = nullptr;
+};
+
+// The ray o + t d against the plane x[axis] = value facing @p sign.
+void hitPlane(const Eigen::Vector3f& o, const Eigen::Vector3f& d, int axis, float value, float sign,
+              const Material& m, RoomHit& hit)
+{
+  if (std::abs(d[axis]) < 1e-9f)
+    return;
+  const float t = (value - o[axis]) / d[axis];
+  if (t > 0 && t < hit.t)
+  {
+    hit.t = t;
+    hit.normal = Eigen::Vector3f::Zero();
+    hit.normal[axis] = sign;
+    hit.local = o + t * d;
+    hit.mat = &m;
+  }
+}
+
+// The ray o + t d against a box: slab test in the box's frame.
+void hitBox(const Eigen::Vector3f& o, const Eigen::Vector3f& d, const BoxFrame& bf, RoomHit& hit)
+{
+  const Eigen::Vector3f lo = bf.rot.transpose() * (o - bf.box->center);
+  const Eigen::Vector3f ld = bf.rot.transpose() * d;
+  float t0 = 0, t1 = hit.t;
+  int axis = -1;
+  float sign = 1;
+  bool overlap = true;
+  for (int k = 0; k < 3 && overlap; ++k)
+  {
+    const float hk = bf.box->half[k];
+    if (std::abs(ld[k]) < 1e-12f)
+    {
+      overlap = std::abs(lo[k]) <= hk;
+      continue;
+    }
+    float ta = (-hk - lo[k]) / ld[k], tb = (hk - lo[k]) / ld[k];
+    float s = -1;
+    if (ta > tb)
+    {
+      std::swap(ta, tb);
+      s = 1;
+    }
+    if (ta > t0)
+    {
+      t0 = ta;
+      axis = k;
+      sign = s;
+    }
+    t1 = std::min(t1, tb);
+    overlap = t0 <= t1;
+  }
+  if (overlap && axis >= 0 && t0 < hit.t)
+  {
+    hit.t = t0;
+    Eigen::Vector3f n = Eigen::Vector3f::Zero();
+    n[axis] = sign;
+    hit.normal = bf.rot * n;
+    hit.local = lo + t0 * ld;
+    hit.mat = &bf.box->material;
+  }
+}
+
+// The nearest of the room's floor, walls, ceiling and boxes along the ray o + t d.
+RoomHit castRoomRay(const Room& room, const std::vector<BoxFrame>& boxes, const Eigen::Vector3f& o,
+                    const Eigen::Vector3f& d)
+{
+  RoomHit hit;
+  if (room.floor)
+    hitPlane(o, d, 2, 0.0f, 1.0f, room.floor_material, hit);
+  if (room.walls)
+  {
+    hitPlane(o, d, 0, room.back_wall, -1.0f, room.wall_material, hit);
+    hitPlane(o, d, 1, room.left_wall, -1.0f, room.wall_material, hit);
+    hitPlane(o, d, 1, room.right_wall, 1.0f, room.wall_material, hit);
+    hitPlane(o, d, 2, room.ceiling, -1.0f, room.ceiling_material, hit);
+  }
+  for (const BoxFrame& bf : boxes)
+    hitBox(o, d, bf, hit);
+  return hit;
+}
+
+}  // namespace
+
 void SceneRenderer::Impl::castRoom(const Room& room)
 {
   const int w = cam.width, h = cam.height;
@@ -310,11 +445,6 @@ void SceneRenderer::Impl::castRoom(const Room& room)
   room_rgb.assign(size_t(w) * h * 3, 0);
   const Eigen::Matrix3f r = world_from_optical.linear();
   const Eigen::Vector3f o = world_from_optical.translation();
-  struct BoxFrame
-  {
-    Eigen::Matrix3f rot;  // box axes in world
-    const Box* box;
-  };
   std::vector<BoxFrame> boxes;
   for (const Box& b : room.boxes)
     boxes.push_back({ Eigen::AngleAxisf(b.yaw, Eigen::Vector3f::UnitZ()).toRotationMatrix(), &b });
@@ -323,79 +453,12 @@ void SceneRenderer::Impl::castRoom(const Room& room)
     {
       const Eigen::Vector3f d_opt(float((u - cam.cx) / cam.fx), float((v - cam.cy) / cam.fy), 1.0f);
       const Eigen::Vector3f d = r * d_opt;  // t along d is the optical depth
-      float best = kInf;
-      Eigen::Vector3f normal(0, 0, 1), local(0, 0, 0);
-      const Material* mat = nullptr;
-      const auto plane = [&](int axis, float value, float sign, const Material& m) {
-        if (std::abs(d[axis]) < 1e-9f)
-          return;
-        const float t = (value - o[axis]) / d[axis];
-        if (t > 0 && t < best)
-        {
-          best = t;
-          normal = Eigen::Vector3f::Zero();
-          normal[axis] = sign;
-          local = o + t * d;
-          mat = &m;
-        }
-      };
-      if (room.floor)
-        plane(2, 0.0f, 1.0f, room.floor_material);
-      if (room.walls)
-      {
-        plane(0, room.back_wall, -1.0f, room.wall_material);
-        plane(1, room.left_wall, -1.0f, room.wall_material);
-        plane(1, room.right_wall, 1.0f, room.wall_material);
-        plane(2, room.ceiling, -1.0f, room.ceiling_material);
-      }
-      for (const BoxFrame& bf : boxes)
-      {
-        // Slab test in the box's frame.
-        const Eigen::Vector3f lo = bf.rot.transpose() * (o - bf.box->center);
-        const Eigen::Vector3f ld = bf.rot.transpose() * d;
-        float t0 = 0, t1 = best;
-        int axis = -1;
-        float sign = 1;
-        bool hit = true;
-        for (int k = 0; k < 3 && hit; ++k)
-        {
-          const float hk = bf.box->half[k];
-          if (std::abs(ld[k]) < 1e-12f)
-          {
-            hit = std::abs(lo[k]) <= hk;
-            continue;
-          }
-          float ta = (-hk - lo[k]) / ld[k], tb = (hk - lo[k]) / ld[k];
-          float s = -1;
-          if (ta > tb)
-          {
-            std::swap(ta, tb);
-            s = 1;
-          }
-          if (ta > t0)
-          {
-            t0 = ta;
-            axis = k;
-            sign = s;
-          }
-          t1 = std::min(t1, tb);
-          hit = t0 <= t1;
-        }
-        if (hit && axis >= 0 && t0 < best)
-        {
-          best = t0;
-          Eigen::Vector3f n = Eigen::Vector3f::Zero();
-          n[axis] = sign;
-          normal = bf.rot * n;
-          local = lo + t0 * ld;
-          mat = &bf.box->material;
-        }
-      }
+      const RoomHit hit = castRoomRay(room, boxes, o, d);
       const size_t i = size_t(v) * w + u;
-      if (!mat)
+      if (!hit.mat)
         continue;
-      room_depth[i] = best;
-      const Rgb c = materialColor(*mat, local) * shading(normal, light_world);
+      room_depth[i] = hit.t;
+      const Rgb c = materialColor(*hit.mat, hit.local) * shading(hit.normal, light_world);
       room_rgb[3 * i] = toByte(c.x());
       room_rgb[3 * i + 1] = toByte(c.y());
       room_rgb[3 * i + 2] = toByte(c.z());
@@ -446,95 +509,113 @@ void SceneRenderer::Impl::buildPrims(const PosedBody& body, std::vector<Prim>& p
 {
   if (!body.appearance)
     throw std::invalid_argument("SceneRenderer: a body without appearance");
-  Skeleton s;
-  for (int k = 0; k < kJointCount; ++k)
-    s.joints[k] = optical_from_world * body.joints.joints[k];
-  const Eigen::Vector3f fwd = optical_from_world.linear() * body.forward;
-  const Eigen::Vector3f up_world = optical_from_world.linear() * Eigen::Vector3f::UnitZ();
-  const float sc = body.shape.height / 1.75f, b = body.shape.build;
+  OpticalBody ob(body, prims, optical_from_world);
+  const Eigen::Matrix3f hips = addTrunkAndHead(ob);
+  for (int side = 0; side < 2; ++side)
+    addLimbs(ob, side, hips);
+}
 
-  const auto capsule = [&](Part part, const Eigen::Vector3f& from, const Eigen::Vector3f& to, float radius) {
-    Prim p;
-    p.capsule = true;
-    p.part = part;
-    p.a = from;
-    const Eigen::Vector3f ab = to - from;
-    p.len = ab.norm();
-    p.w = p.len > 1e-6f ? Eigen::Vector3f(ab / p.len) : up_world;
-    p.r = radius;
-    p.rot = axisFrame(p.w, fwd);
-    p.origin = from;
-    p.look = body.appearance;
-    p.id = body.id;
-    setBox(p);
-    prims.push_back(p);
-    return &prims.back();
-  };
-  const auto ellipsoid = [&](Part part, const Eigen::Vector3f& center, const Eigen::Matrix3f& rot,
-                             const Eigen::Vector3f& axes, const Eigen::Vector3f& tex_origin) {
-    Prim p;
-    p.capsule = false;
-    p.part = part;
-    p.c = center;
-    p.rot = rot;
-    p.inv_axes = axes.cwiseInverse();
-    p.m_scaled = p.inv_axes.asDiagonal() * rot.transpose();
-    p.o_scaled = p.m_scaled * (-center);
-    p.origin = tex_origin;
-    p.look = body.appearance;
-    p.id = body.id;
-    setBox(p);
-    prims.push_back(p);
-  };
+Prim* SceneRenderer::Impl::addCapsule(OpticalBody& ob, Part part, const Eigen::Vector3f& from,
+                                      const Eigen::Vector3f& to, float radius) const
+{
+  Prim p;
+  p.capsule = true;
+  p.part = part;
+  p.a = from;
+  const Eigen::Vector3f ab = to - from;
+  p.len = ab.norm();
+  p.w = p.len > 1e-6f ? Eigen::Vector3f(ab / p.len) : ob.up_world;
+  p.r = radius;
+  p.rot = axisFrame(p.w, ob.fwd);
+  p.origin = from;
+  p.look = ob.body.appearance;
+  p.id = ob.body.id;
+  setBox(p);
+  ob.prims.push_back(p);
+  return &ob.prims.back();
+}
 
+void SceneRenderer::Impl::addEllipsoid(OpticalBody& ob, Part part, const Eigen::Vector3f& center,
+                                       const Eigen::Matrix3f& rot, const Eigen::Vector3f& axes,
+                                       const Eigen::Vector3f& tex_origin) const
+{
+  Prim p;
+  p.capsule = false;
+  p.part = part;
+  p.c = center;
+  p.rot = rot;
+  p.inv_axes = axes.cwiseInverse();
+  p.m_scaled = p.inv_axes.asDiagonal() * rot.transpose();
+  p.o_scaled = p.m_scaled * (-center);
+  p.origin = tex_origin;
+  p.look = ob.body.appearance;
+  p.id = ob.body.id;
+  setBox(p);
+  ob.prims.push_back(p);
+}
+
+Eigen::Matrix3f SceneRenderer::Impl::addTrunkAndHead(OpticalBody& ob) const
+{
+  const Skeleton& s = ob.s;
+  const float sc = ob.sc, b = ob.b;
   const Eigen::Vector3f head = s[Joint::Head], neck = s[Joint::Neck], torso = s[Joint::Torso];
   const Eigen::Vector3f lh = s[Joint::LeftHip], rh = s[Joint::RightHip];
   const Eigen::Vector3f pelvis = 0.5f * (lh + rh);
   // Trunk frame: up from the pelvis to the neck, forward = the body's facing made orthogonal.
-  const Eigen::Matrix3f trunk = axisFrame(neck - pelvis, fwd);
-  const Eigen::Matrix3f hips = axisFrame(torso - pelvis, fwd);
+  const Eigen::Matrix3f trunk = axisFrame(neck - pelvis, ob.fwd);
+  const Eigen::Matrix3f hips = axisFrame(torso - pelvis, ob.fwd);
   const float trunk_len = (neck - pelvis).norm();
   // Chest: the upper part of the trunk, abdomen between, pelvis block around the hips.
-  ellipsoid(Part::Chest, neck - trunk.col(2) * (0.34f * trunk_len) - trunk.col(0) * (0.005f * sc), trunk,
-            Eigen::Vector3f(0.105f * b * sc, 0.175f * b * sc, 0.42f * trunk_len), neck);
-  ellipsoid(Part::Abdomen, pelvis + trunk.col(2) * (0.38f * trunk_len), trunk,
-            Eigen::Vector3f(0.1f * b * b * sc, 0.155f * b * sc, 0.28f * trunk_len), neck);
-  ellipsoid(Part::Pelvis, pelvis + hips.col(2) * (0.03f * sc), hips,
-            Eigen::Vector3f(0.105f * b * sc, 0.175f * b * sc, 0.13f * sc), pelvis);
+  addEllipsoid(ob, Part::Chest,
+               neck - trunk.col(2) * (0.34f * trunk_len) - trunk.col(0) * (0.005f * sc), trunk,
+               Eigen::Vector3f(0.105f * b * sc, 0.175f * b * sc, 0.42f * trunk_len), neck);
+  addEllipsoid(ob, Part::Abdomen, pelvis + trunk.col(2) * (0.38f * trunk_len), trunk,
+               Eigen::Vector3f(0.1f * b * b * sc, 0.155f * b * sc, 0.28f * trunk_len), neck);
+  addEllipsoid(ob, Part::Pelvis, pelvis + hips.col(2) * (0.03f * sc), hips,
+               Eigen::Vector3f(0.105f * b * sc, 0.175f * b * sc, 0.13f * sc), pelvis);
   // Shoulder girdle: fills the line between the shoulders, textured in the trunk's frame so the
   // shirt's pattern runs on from the chest.
-  Prim* girdle = capsule(Part::Chest, s[Joint::LeftShoulder], s[Joint::RightShoulder], 0.06f * b * sc);
+  Prim* girdle =
+      addCapsule(ob, Part::Chest, s[Joint::LeftShoulder], s[Joint::RightShoulder], 0.06f * b * sc);
   girdle->rot = trunk;
   girdle->origin = neck;
-  const Eigen::Matrix3f head_rot = axisFrame(head - neck, fwd);
-  ellipsoid(Part::Head, head + head_rot.col(2) * (0.01f * sc), head_rot,
-            Eigen::Vector3f(0.1f * sc, 0.08f * sc, 0.115f * sc), head);
-  capsule(Part::Neck, neck - trunk.col(2) * (0.03f * sc), head - head_rot.col(2) * (0.06f * sc), 0.05f * sc * std::sqrt(b));
+  const Eigen::Matrix3f head_rot = axisFrame(head - neck, ob.fwd);
+  addEllipsoid(ob, Part::Head, head + head_rot.col(2) * (0.01f * sc), head_rot,
+               Eigen::Vector3f(0.1f * sc, 0.08f * sc, 0.115f * sc), head);
+  addCapsule(ob, Part::Neck, neck - trunk.col(2) * (0.03f * sc),
+             head - head_rot.col(2) * (0.06f * sc), 0.05f * sc * std::sqrt(b));
+  return hips;
+}
 
-  const bool long_sleeves = body.appearance->long_sleeves;
-  for (int side = 0; side < 2; ++side)
-  {
-    const LimbJoints limb = limbJoints(side);
-    const Joint sh = limb.shoulder, el = limb.elbow, ha = limb.hand, hp = limb.hip, kn = limb.knee, ft = limb.foot;
-    capsule(Part::UpperArm, s[sh], s[el], 0.046f * b * sc);
-    const Eigen::Vector3f fa = s[ha] - s[el];
-    const float fa_len = fa.norm();
-    const Eigen::Vector3f fa_dir = fa_len > 1e-6f ? Eigen::Vector3f(fa / fa_len) : -up_world;
-    Prim* forearm = capsule(Part::Forearm, s[el], s[ha] - fa_dir * (0.05f * sc), 0.037f * b * sc);
-    forearm->sleeve = long_sleeves ? 1.0f : 0.0f;
-    const Eigen::Matrix3f hand_rot = axisFrame(fa_dir, fwd);
-    ellipsoid(Part::Hand, s[ha], hand_rot, Eigen::Vector3f(0.045f * sc, 0.022f * sc, 0.07f * sc), s[ha]);
-    capsule(Part::Thigh, s[hp], s[kn], 0.068f * b * sc);
-    capsule(Part::Shin, s[kn], s[ft], 0.05f * b * sc);
-    // The foot lies along the horizontal facing, its sole near the floor.
-    Eigen::Vector3f foot_fwd = fwd - fwd.dot(up_world) * up_world;
-    if (foot_fwd.squaredNorm() < 1e-6f)
-      foot_fwd = hips.col(0);
-    foot_fwd.normalize();
-    const Eigen::Matrix3f foot_rot = axisFrame(up_world, foot_fwd);
-    ellipsoid(Part::Foot, s[ft] + foot_fwd * (0.06f * sc) - up_world * (0.03f * sc), foot_rot,
-              Eigen::Vector3f(0.13f * sc, 0.05f * sc, 0.045f * sc), s[ft]);
-  }
+void SceneRenderer::Impl::addLimbs(OpticalBody& ob, int side, const Eigen::Matrix3f& hips) const
+{
+  const Skeleton& s = ob.s;
+  const Eigen::Vector3f& fwd = ob.fwd;
+  const Eigen::Vector3f& up_world = ob.up_world;
+  const float sc = ob.sc, b = ob.b;
+  const LimbJoints limb = limbJoints(side);
+  const Joint sh = limb.shoulder, el = limb.elbow, ha = limb.hand;
+  const Joint hp = limb.hip, kn = limb.knee, ft = limb.foot;
+  addCapsule(ob, Part::UpperArm, s[sh], s[el], 0.046f * b * sc);
+  const Eigen::Vector3f fa = s[ha] - s[el];
+  const float fa_len = fa.norm();
+  const Eigen::Vector3f fa_dir = fa_len > 1e-6f ? Eigen::Vector3f(fa / fa_len) : -up_world;
+  Prim* forearm =
+      addCapsule(ob, Part::Forearm, s[el], s[ha] - fa_dir * (0.05f * sc), 0.037f * b * sc);
+  forearm->sleeve = ob.body.appearance->long_sleeves ? 1.0f : 0.0f;
+  const Eigen::Matrix3f hand_rot = axisFrame(fa_dir, fwd);
+  addEllipsoid(ob, Part::Hand, s[ha], hand_rot,
+               Eigen::Vector3f(0.045f * sc, 0.022f * sc, 0.07f * sc), s[ha]);
+  addCapsule(ob, Part::Thigh, s[hp], s[kn], 0.068f * b * sc);
+  addCapsule(ob, Part::Shin, s[kn], s[ft], 0.05f * b * sc);
+  // The foot lies along the horizontal facing, its sole near the floor.
+  Eigen::Vector3f foot_fwd = fwd - fwd.dot(up_world) * up_world;
+  if (foot_fwd.squaredNorm() < 1e-6f)
+    foot_fwd = hips.col(0);
+  foot_fwd.normalize();
+  const Eigen::Matrix3f foot_rot = axisFrame(up_world, foot_fwd);
+  addEllipsoid(ob, Part::Foot, s[ft] + foot_fwd * (0.06f * sc) - up_world * (0.03f * sc), foot_rot,
+               Eigen::Vector3f(0.13f * sc, 0.05f * sc, 0.045f * sc), s[ft]);
 }
 
 Rgb SceneRenderer::Impl::primColor(const Prim& p, const Eigen::Vector3f& hit, const Eigen::Vector3f& normal) const
@@ -651,52 +732,42 @@ void SceneRenderer::Impl::drawPrim(const Prim& p, std::vector<float>& depth, std
     }
 }
 
-void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t noise_seed, int frame,
-                           FrameImages& out) const
+void SceneRenderer::Impl::drawBodies(const std::vector<PosedBody>& bodies,
+                                     std::vector<float>& exact, FrameImages& out) const
 {
-  const Impl& m = *impl_;
-  const CameraModel& cam = m.cam;
-  const int w = cam.width, h = cam.height;
-  const size_t n = size_t(w) * h;
-  out.width = w;
-  out.height = h;
-  // Per-thread scratch: fresh multi-megabyte buffers every frame cost more in page faults than the
-  // rendering itself.
-  thread_local std::vector<float> exact, disp;
-  exact = m.room_depth;
-  out.rgb = m.room_rgb;
-  out.mask.assign(n, 0);
+  exact = room_depth;
+  out.rgb = room_rgb;
+  out.mask.assign(size_t(cam.width) * cam.height, 0);
   std::vector<Prim> prims;
-  prims.reserve(24 * bodies.size());  // 18 a body; capsule() hands out pointers into it
+  prims.reserve(24 * bodies.size());  // 18 a body; addCapsule() hands out pointers into it
   for (const PosedBody& body : bodies)
-    m.buildPrims(body, prims);
+    buildPrims(body, prims);
   for (const Prim& p : prims)
     if (p.u1 >= p.u0 && p.v1 >= p.v0)
-      m.drawPrim(p, exact, out.rgb, out.mask);
+      drawPrim(p, exact, out.rgb, out.mask);
+}
 
-  out.depth.resize(n);
-  const float min_d = float(cam.min_depth), max_d = float(cam.max_depth);
-  if (!cam.noise)
-  {
-    for (size_t i = 0; i < n; ++i)
-      out.depth[i] = (exact[i] >= min_d && exact[i] <= max_d) ? exact[i] : kNaN;
-    return;
-  }
-
+void SceneRenderer::Impl::sensorDepth(const std::vector<float>& exact,
+                                      const std::vector<std::uint8_t>& mask,
+                                      std::uint64_t frame_key, std::vector<float>& depth) const
+{
+  const int w = cam.width, h = cam.height;
+  const size_t n = size_t(w) * h;
   // Sensor model in disparity space, where the Kinect's error is constant: sigma_z = k z^2
   // means sigma_d = k f b. Quantisation to 1/8 px supplies part of it; noise supplies the rest.
   const float fb = float(cam.fx * cam.baseline), step = float(cam.disparity_step);
   const float sigma_total = float(cam.noise_coefficient) * fb;
-  const float sigma_noise = std::sqrt(std::max(0.0f, sigma_total * sigma_total - step * step / 12.0f));
-  const std::uint64_t frame_key = hash64(noise_seed, std::uint64_t(frame), 0x6b696e656374ULL);
+  const float sigma_noise =
+      std::sqrt(std::max(0.0f, sigma_total * sigma_total - step * step / 12.0f));
   // Disparity: the room's is fixed, only body pixels need a division.
+  thread_local std::vector<float> disp;  // per-thread scratch, as in render()
   disp.resize(n);
   for (size_t i = 0; i < n; ++i)
-    disp[i] = out.mask[i] ? fb / exact[i] : m.room_disp[i];
+    disp[i] = mask[i] ? fb / exact[i] : room_disp[i];
   const float drop = float(cam.edge_dropout);
   const int nb = std::max(1, cam.noise_block);
   const float inv_step = 1.0f / step;
-  const int max_k = int(m.depth_of_step.size()) - 1;
+  const int max_k = int(depth_of_step.size()) - 1;
   thread_local std::vector<float> block_noise;
   block_noise.resize(size_t(w / nb + 1));
   for (int v = 0; v < h; ++v)
@@ -717,7 +788,7 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
       const float z = exact[i];
       if (!(z < kInf) || shadowed)
       {
-        out.depth[i] = kNaN;
+        depth[i] = kNaN;
         continue;
       }
       // Depth edges: the neighbour right or below at a clearly different depth.
@@ -726,14 +797,20 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
                         (v + 1 < h && std::abs(exact[i + w] - z) > tol) || (v > 0 && std::abs(exact[i - w] - z) > tol);
       if (edge && unit(mix64(frame_key + i * 0x9e3779b97f4a7c15ULL)) < drop)
       {
-        out.depth[i] = kNaN;
+        depth[i] = kNaN;
         continue;
       }
       // Quantised disparity k steps -> depth in millimetres, in range or NaN (table).
       const int k = int((disp[i] + block_noise[size_t(u / nb)]) * inv_step + 0.5f);
-      out.depth[i] = m.depth_of_step[size_t(std::clamp(k, 0, max_k))];
+      depth[i] = depth_of_step[size_t(std::clamp(k, 0, max_k))];
     }
   }
+}
+
+void SceneRenderer::Impl::addColorNoise(std::uint64_t frame_key,
+                                        std::vector<std::uint8_t>& rgb) const
+{
+  const size_t n = size_t(cam.width) * cam.height;
   const float cs = float(cam.color_noise) / 0.408f;  // the triangular variable's std is 0.408
   for (size_t i = 0; i < n; ++i)
   {
@@ -741,10 +818,36 @@ void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t n
     for (int c = 0; c < 3; ++c)
     {
       const float tri = (float((hsh >> (16 * c)) & 0xff) + float((hsh >> (16 * c + 8)) & 0xff) - 255.0f) / 255.0f;
-      const float val = float(out.rgb[3 * i + c]) + cs * tri;
-      out.rgb[3 * i + c] = std::uint8_t(std::clamp(val + 0.5f, 0.0f, 255.0f));  // truncation after +0.5 rounds
+      const float val = float(rgb[3 * i + c]) + cs * tri;
+      rgb[3 * i + c] = std::uint8_t(std::clamp(val + 0.5f, 0.0f, 255.0f));  // truncation after +0.5 rounds
     }
   }
+}
+
+void SceneRenderer::render(const std::vector<PosedBody>& bodies, std::uint64_t noise_seed, int frame,
+                           FrameImages& out) const
+{
+  const Impl& m = *impl_;
+  const CameraModel& cam = m.cam;
+  const size_t n = size_t(cam.width) * cam.height;
+  out.width = cam.width;
+  out.height = cam.height;
+  // Per-thread scratch: fresh multi-megabyte buffers every frame cost more in page faults than the
+  // rendering itself.
+  thread_local std::vector<float> exact;
+  m.drawBodies(bodies, exact, out);
+
+  out.depth.resize(n);
+  const float min_d = float(cam.min_depth), max_d = float(cam.max_depth);
+  if (!cam.noise)
+  {
+    for (size_t i = 0; i < n; ++i)
+      out.depth[i] = (exact[i] >= min_d && exact[i] <= max_d) ? exact[i] : kNaN;
+    return;
+  }
+  const std::uint64_t frame_key = hash64(noise_seed, std::uint64_t(frame), 0x6b696e656374ULL);
+  m.sensorDepth(exact, out.mask, frame_key, out.depth);
+  m.addColorNoise(frame_key, out.rgb);
 }
 
 void SceneRenderer::toFrameCloud(const FrameImages& images, double stamp, int frame, Cloud& cloud,

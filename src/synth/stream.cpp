@@ -154,6 +154,18 @@ void holdBreathing(StreamMotion& out, int n, double period, double fps)
   }
 }
 
+// The stream number, its action count and its (empty or 'stream') action, as a stream's name gives
+// them; @throws std::invalid_argument naming the one out of range.
+void checkStreamNumbers(const SampleSpec& spec)
+{
+  if (spec.repetition < 1 || spec.repetition > kMaxCount)
+    throw std::invalid_argument("stream number must be 1..99, got " + std::to_string(spec.repetition));
+  if (spec.stream_actions < 1 || spec.stream_actions > kMaxCount)
+    throw std::invalid_argument("stream_actions must be 1..99, got " + std::to_string(spec.stream_actions));
+  if (!spec.action.empty() && spec.action != "stream")
+    throw std::invalid_argument("a stream's action must be 'stream', got '" + spec.action + "'");
+}
+
 void validateStream(const SampleSpec& spec)
 {
   if (spec.dataset != "stream")
@@ -162,12 +174,7 @@ void validateStream(const SampleSpec& spec)
   std::smatch m;
   if (!std::regex_match(spec.person, m, re) || std::stoi(m[1]) < 1)
     throw std::invalid_argument("invalid person id '" + spec.person + "' for a stream (expected p01..p99)");
-  if (spec.repetition < 1 || spec.repetition > kMaxCount)
-    throw std::invalid_argument("stream number must be 1..99, got " + std::to_string(spec.repetition));
-  if (spec.stream_actions < 1 || spec.stream_actions > kMaxCount)
-    throw std::invalid_argument("stream_actions must be 1..99, got " + std::to_string(spec.stream_actions));
-  if (!spec.action.empty() && spec.action != "stream")
-    throw std::invalid_argument("a stream's action must be 'stream', got '" + spec.action + "'");
+  checkStreamNumbers(spec);
 }
 
 /** Builds the stream piece by piece: each piece is placed in the world and joined to the frames so far. */
@@ -412,12 +419,7 @@ std::vector<SampleSpec> msrStreamSequences(const SampleSpec& spec)
   static const std::regex re(R"(s\d\d)");
   if (!std::regex_match(spec.person, re))
     throw std::invalid_argument("invalid subject id '" + spec.person + "' for an MSR stream (expected s01..s99)");
-  if (spec.repetition < 1 || spec.repetition > kMaxCount)
-    throw std::invalid_argument("stream number must be 1..99, got " + std::to_string(spec.repetition));
-  if (spec.stream_actions < 1 || spec.stream_actions > kMaxCount)
-    throw std::invalid_argument("stream_actions must be 1..99, got " + std::to_string(spec.stream_actions));
-  if (!spec.action.empty() && spec.action != "stream")
-    throw std::invalid_argument("a stream's action must be 'stream', got '" + spec.action + "'");
+  checkStreamNumbers(spec);
   const auto& names = msrActions();
   for (const std::string& a : spec.stream_pool)
     if (std::find(names.begin(), names.end(), a) == names.end())

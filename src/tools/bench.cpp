@@ -26,6 +26,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <boost/make_shared.hpp>
 #include <cstring>
+#include <initializer_list>
 
 #include <Eigen/Geometry>
 
@@ -161,6 +162,22 @@ void header(const char* title)
               std::string(10, '-').c_str());
 }
 
+// One row of a result table: a stage's samples of ours and, when given, of the baseline.
+struct TableRow
+{
+  const char* stage;
+  const StageSamples& ours;
+  const StageSamples* base;
+};
+
+// The table header under @p title, then one row per stage.
+void table(const char* title, std::initializer_list<TableRow> rows)
+{
+  header(title);
+  for (const TableRow& r : rows)
+    row(r.stage, r.ours, r.base);
+}
+
 // One person's clouds in consecutive frames, at one voxel size.
 struct PersonSequence
 {
@@ -169,126 +186,191 @@ struct PersonSequence
   Eigen::Vector4f ground;  // in the clouds' frame, normal up
 };
 
-void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>& sequences)
+// The samples of one flow implementation's four steps, one per frame pair.
+struct FlowStepSamples
+{
+  StageSamples build, match, vel, out, total;
+  std::size_t kept = 0;  // flow vectors kept, over all frame pairs
+
+  void add(double t_build, double t_match, double t_vel, double t_out, std::size_t kept_flow)
+  {
+    build.add(t_build);
+    match.add(t_match);
+    vel.add(t_vel);
+    out.add(t_out);
+    total.add(t_build + t_match + t_vel + t_out);
+    kept += kept_flow;
+  }
+};
+
+FlowParams flowParams(int k)
 {
   FlowParams fp;
-  fp.k = o.k;
-  const FlowEstimator ours(fp);
-  const OctreeFlowBaseline base(fp, o.octree_resolution > 0 ? o.octree_resolution : o.octree_scale * voxel);
-  const GridDescriptor grid;
-  const PostureFlowDescriptor posture_flow;
-  StageSamples o_pf, o_build, o_match, o_vel, o_out, o_total, o_desc, b_build, b_match, b_vel, b_out, b_total;
-  std::size_t points = 0, kept = 0, b_kept = 0, agree = 0, ours_matches = 0, base_matches = 0;
-  int pairs = 0;
+  fp.k = k;
+  return fp;
+}
+
+Eigen::Vector3f centroid(const FlowFrame& frame)
+{
+  Eigen::Vector3f c = Eigen::Vector3f::Zero();
+  for (std::size_t k = 0; k < frame.size(); ++k)
+    c += frame.point(k);
+  c /= std::max<std::size_t>(1, frame.size());
+  return c;
+}
+
+// Our flow step and the octree baseline's, timed on the same frame pairs at one voxel size, and
+// our descriptors on our flow.
+class FlowBench
+{
+public:
+  FlowBench(const Options& o, float voxel)
+    : o_(o)
+    , voxel_(voxel)
+    , params_(flowParams(o.k))
+    , ours_(params_)
+    , base_(params_, o.octree_resolution > 0 ? o.octree_resolution : o.octree_scale * voxel)
+  {
+  }
+
+  // Times the frame pairs of @p seq while fewer than o.pairs pairs are timed.
+  void timeSequence(const PersonSequence& seq)
+  {
+    std::unique_ptr<FlowFrame> prev = std::make_unique<FlowFrame>(seq.clouds[0], seq.stamps[0]);
+    std::unique_ptr<OctreeFlowBaseline::Frame> bprev = base_.prepare(seq.clouds[0], seq.stamps[0]);
+    for (std::size_t i = 1; i < seq.clouds.size() && pairs_ < o_.pairs; ++i, ++pairs_)
+    {
+      const Cloud& cloud = seq.clouds[i];
+      const double stamp = seq.stamps[i];
+      points_ += cloud.size();
+      // Alternate which goes first so neither always finds the caches warmed by the other.
+      std::vector<Correspondence> mo, mb;
+      if (!o_.baseline)
+        mo = timeOurs(cloud, stamp, seq.ground, prev);
+      else if (i % 2)
+      {
+        mo = timeOurs(cloud, stamp, seq.ground, prev);
+        mb = timeBase(cloud, stamp, bprev);
+      }
+      else
+      {
+        mb = timeBase(cloud, stamp, bprev);
+        mo = timeOurs(cloud, stamp, seq.ground, prev);
+      }
+      if (o_.baseline)
+        compareMatches(mo, mb);
+    }
+  }
+
+  // The table of the timed pairs and the flow's counts per frame.
+  void print() const
+  {
+    if (pairs_ < 1)
+      throw std::runtime_error("no frame pairs to time");
+    char title[256];
+    std::snprintf(title, sizeof title,
+                  "### Flow, voxel %.2f m: person clouds of %.0f points on average, %d frame pairs, "
+                  "K = %d",
+                  voxel_, points_ / static_cast<double>(pairs_), pairs_, o_.k);
+    const auto base = [&](const StageSamples& s) { return o_.baseline ? &s : nullptr; };
+    table(title, { { "tree build", ours_steps_.build, base(base_steps_.build) },
+                   { "matching (reciprocal)", ours_steps_.match, base(base_steps_.match) },
+                   { "flow vectors", ours_steps_.vel, base(base_steps_.vel) },
+                   { "outlier removal", ours_steps_.out, base(base_steps_.out) },
+                   { "flow step total", ours_steps_.total, base(base_steps_.total) },
+                   { "descriptor: paper's SUMFLOW", sumflow_, nullptr },
+                   { "descriptor: posture_flow; base = SUMFLOW", posture_flow_time_, &sumflow_ } });
+    const double np = pairs_;
+    std::printf("\nflow vectors kept per frame: ours %.1f", ours_steps_.kept / np);
+    if (o_.baseline)
+      std::printf(", baseline %.1f; reciprocal correspondences: ours %.1f, baseline %.1f per "
+                  "frame, %.2f %% of ours identical in the baseline",
+                  base_steps_.kept / np, ours_matches_ / np, base_matches_ / np,
+                  100.0 * agree_ / std::max<std::size_t>(1, ours_matches_));
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+
+private:
+  // Our four steps from *prev to @p cloud, then the descriptors on the flow kept; prev becomes
+  // the new frame. Returns the correspondences.
+  std::vector<Correspondence> timeOurs(const Cloud& cloud, double stamp,
+                                       const Eigen::Vector4f& ground, std::unique_ptr<FlowFrame>& prev)
+  {
+    Stopwatch w(o_.clock);
+    auto frame = std::make_unique<FlowFrame>(cloud, stamp);
+    const double t_build = w.lap();
+    FlowStats stats;
+    const auto matches = ours_.correspond(*prev, *frame, stats);
+    const double t_match = w.lap();
+    const FlowVectors flow =
+        FlowEstimator::velocities(*prev, *frame, matches, stamp - prev->stamp());
+    const double t_vel = w.lap();
+    const FlowVectors kept_flow = ours_.rejectOutliers(*frame, matches, flow, stats);
+    const double t_out = w.lap();
+    const Eigen::Vector3f c = centroid(*frame);
+    const PersonFrame where = PersonFrame::fromGround(c, ground, 1.75f, c);
+    w.lap();
+    const Eigen::VectorXf d = grid_.compute(kept_flow, where);
+    const double t_desc = w.lap();
+    const Eigen::VectorXf pf = posture_flow_.compute(cloud, kept_flow, where);
+    posture_flow_time_.add(w.lap());
+    ours_steps_.add(t_build, t_match, t_vel, t_out, kept_flow.size());
+    sumflow_.add(t_desc);
+    prev = std::move(frame);
+    return matches;
+  }
+
+  // The baseline's four steps from *prev to @p cloud; prev becomes the new frame.
+  std::vector<Correspondence> timeBase(const Cloud& cloud, double stamp,
+                                       std::unique_ptr<OctreeFlowBaseline::Frame>& prev)
+  {
+    Stopwatch w(o_.clock);
+    auto frame = base_.prepare(cloud, stamp);
+    const double t_build = w.lap();
+    FlowStats stats;
+    const auto matches = base_.correspond(*prev, *frame, stats);
+    const double t_match = w.lap();
+    const FlowVectors flow = base_.velocities(*prev, *frame, matches);
+    const double t_vel = w.lap();
+    const FlowVectors kept_flow = base_.rejectOutliers(*frame, matches, flow, stats);
+    const double t_out = w.lap();
+    base_steps_.add(t_build, t_match, t_vel, t_out, kept_flow.size());
+    prev = std::move(frame);
+    return matches;
+  }
+
+  // Counts our correspondences @p mo that the baseline's @p mb has too.
+  void compareMatches(const std::vector<Correspondence>& mo, const std::vector<Correspondence>& mb)
+  {
+    std::set<std::pair<std::size_t, std::size_t>> b;
+    for (const auto& m : mb)
+      b.insert({ m.target, m.source });
+    for (const auto& m : mo)
+      agree_ += b.count({ m.target, m.source });
+    ours_matches_ += mo.size();
+    base_matches_ += mb.size();
+  }
+
+  const Options& o_;
+  const float voxel_;
+  const FlowParams params_;
+  const FlowEstimator ours_;
+  const OctreeFlowBaseline base_;
+  const GridDescriptor grid_;
+  const PostureFlowDescriptor posture_flow_;
+  FlowStepSamples ours_steps_, base_steps_;
+  StageSamples sumflow_, posture_flow_time_;  // our descriptors' times
+  std::size_t points_ = 0, agree_ = 0, ours_matches_ = 0, base_matches_ = 0;
+  int pairs_ = 0;
+};
+
+void benchFlow(const Options& o, float voxel, const std::vector<PersonSequence>& sequences)
+{
+  FlowBench bench(o, voxel);
   for (const PersonSequence& seq : sequences)
-  {
-  std::unique_ptr<FlowFrame> prev = std::make_unique<FlowFrame>(seq.clouds[0], seq.stamps[0]);
-  std::unique_ptr<OctreeFlowBaseline::Frame> bprev = base.prepare(seq.clouds[0], seq.stamps[0]);
-  const Eigen::Vector4f ground = seq.ground;
-  for (std::size_t i = 1; i < seq.clouds.size() && pairs < o.pairs; ++i, ++pairs)
-  {
-    const double stamp = seq.stamps[i];
-    const std::vector<Cloud>& clouds = seq.clouds;
-    points += clouds[i].size();
-    auto runOurs = [&]() {
-      Stopwatch w(o.clock);
-      auto frame = std::make_unique<FlowFrame>(clouds[i], stamp);
-      const double t_build = w.lap();
-      FlowStats stats;
-      const auto matches = ours.correspond(*prev, *frame, stats);
-      const double t_match = w.lap();
-      const FlowVectors flow = FlowEstimator::velocities(*prev, *frame, matches, stamp - prev->stamp());
-      const double t_vel = w.lap();
-      const FlowVectors kept_flow = ours.rejectOutliers(*frame, matches, flow, stats);
-      const double t_out = w.lap();
-      Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
-      for (std::size_t k = 0; k < frame->size(); ++k)
-        centroid += frame->point(k);
-      centroid /= std::max<std::size_t>(1, frame->size());
-      const PersonFrame where = PersonFrame::fromGround(centroid, ground, 1.75f, centroid);
-      w.lap();
-      const Eigen::VectorXf d = grid.compute(kept_flow, where);
-      const double t_desc = w.lap();
-      const Eigen::VectorXf pf = posture_flow.compute(clouds[i], kept_flow, where);
-      o_pf.add(w.lap());
-      o_build.add(t_build);
-      o_match.add(t_match);
-      o_vel.add(t_vel);
-      o_out.add(t_out);
-      o_total.add(t_build + t_match + t_vel + t_out);
-      o_desc.add(t_desc);
-      kept += kept_flow.size();
-      prev = std::move(frame);
-      return matches;
-    };
-    auto runBase = [&]() {
-      Stopwatch w(o.clock);
-      auto frame = base.prepare(clouds[i], stamp);
-      const double t_build = w.lap();
-      FlowStats stats;
-      const auto matches = base.correspond(*bprev, *frame, stats);
-      const double t_match = w.lap();
-      const FlowVectors flow = base.velocities(*bprev, *frame, matches);
-      const double t_vel = w.lap();
-      const FlowVectors kept_flow = base.rejectOutliers(*frame, matches, flow, stats);
-      const double t_out = w.lap();
-      b_build.add(t_build);
-      b_match.add(t_match);
-      b_vel.add(t_vel);
-      b_out.add(t_out);
-      b_total.add(t_build + t_match + t_vel + t_out);
-      b_kept += kept_flow.size();
-      bprev = std::move(frame);
-      return matches;
-    };
-    // Alternate which goes first so neither always finds the caches warmed by the other.
-    std::vector<Correspondence> mo, mb;
-    if (!o.baseline)
-      mo = runOurs();
-    else if (i % 2)
-    {
-      mo = runOurs();
-      mb = runBase();
-    }
-    else
-    {
-      mb = runBase();
-      mo = runOurs();
-    }
-    if (o.baseline)
-    {
-      std::set<std::pair<std::size_t, std::size_t>> b;
-      for (const auto& m : mb)
-        b.insert({ m.target, m.source });
-      for (const auto& m : mo)
-        agree += b.count({ m.target, m.source });
-      ours_matches += mo.size();
-      base_matches += mb.size();
-    }
-  }
-  }
-  if (pairs < 1)
-    throw std::runtime_error("no frame pairs to time");
-  char title[256];
-  std::snprintf(title, sizeof title, "### Flow, voxel %.2f m: person clouds of %.0f points on average, %d frame pairs, K = %d",
-                voxel, points / static_cast<double>(pairs), pairs, o.k);
-  header(title);
-  const StageSamples* none = nullptr;
-  row("tree build", o_build, o.baseline ? &b_build : none);
-  row("matching (reciprocal)", o_match, o.baseline ? &b_match : none);
-  row("flow vectors", o_vel, o.baseline ? &b_vel : none);
-  row("outlier removal", o_out, o.baseline ? &b_out : none);
-  row("flow step total", o_total, o.baseline ? &b_total : none);
-  row("descriptor: paper's SUMFLOW", o_desc, none);
-  row("descriptor: posture_flow; base = SUMFLOW", o_pf, &o_desc);
-  const double np = pairs;
-  std::printf("\nflow vectors kept per frame: ours %.1f", kept / np);
-  if (o.baseline)
-    std::printf(", baseline %.1f; reciprocal correspondences: ours %.1f, baseline %.1f per frame, %.2f %% of ours "
-                "identical in the baseline",
-                b_kept / np, ours_matches / np, base_matches / np, 100.0 * agree / std::max<std::size_t>(1, ours_matches));
-  std::printf("\n");
-  std::fflush(stdout);
+    bench.timeSequence(seq);
+  bench.print();
 }
 
 // The samples of one evaluate cache folder (<person>_<action>_<repetition>_<key>.frames), split
@@ -384,101 +466,165 @@ void benchPostureFlowClassification(const Options& o)
   row("classify, posture_flow", total, nullptr);
 }
 
-void benchClassification(const Options& o)
+// The classification bench's training sequences and queries, and where they come from.
+struct ClassificationSets
 {
-  const int size = GridDescriptor().size();
-  Stopwatch w(o.clock);
   std::vector<DescriptorSequence> train, queries;
   std::string source = "generated sequences";
   int actions = 15;
+};
+
+// Generated sequences of frame descriptors of @p size values, or those of --descriptors.
+ClassificationSets classificationSets(const Options& o, int size)
+{
+  ClassificationSets s;
   if (o.descriptors.empty())
   {
-    train = makeSequences(o.training, actions, size, 1);
-    queries = makeSequences(o.queries, actions, size, 2);
+    s.train = makeSequences(o.training, s.actions, size, 1);
+    s.queries = makeSequences(o.queries, s.actions, size, 2);
+    return s;
   }
-  else
-  {
-    loadCachedSequences(o, train, queries);
-    std::set<std::string> labels;
-    for (const auto& t : train)
-      labels.insert(t.label);
-    actions = static_cast<int>(labels.size());
-    source = "real frame descriptors from " + o.descriptors + ", queries: " + o.query_person;
-  }
+  loadCachedSequences(o, s.train, s.queries);
+  std::set<std::string> labels;
+  for (const auto& t : s.train)
+    labels.insert(t.label);
+  s.actions = static_cast<int>(labels.size());
+  s.source = "real frame descriptors from " + o.descriptors + ", queries: " + o.query_person;
+  return s;
+}
+
+// The PCA of every frame descriptor of @p train (@p size values each), at 99 % of the variance.
+Pca fitFramePca(const std::vector<DescriptorSequence>& train, int size)
+{
   std::vector<Eigen::VectorXf> all_frames;
   for (const auto& s : train)
     all_frames.insert(all_frames.end(), s.frames.begin(), s.frames.end());
   Eigen::MatrixXf frame_matrix(all_frames.size(), size);
   for (std::size_t i = 0; i < all_frames.size(); ++i)
     frame_matrix.row(i) = all_frames[i].transpose();
-  const Pca pca = Pca::fit(frame_matrix, 0.99);
-  const SequenceDescriptor seq(30);
-  auto model = [&](const Pca& p) {
-    Eigen::MatrixXf m(train.size(), 30 * (p.empty() ? size : p.outputSize()));
-    std::vector<std::string> labels;
-    for (std::size_t i = 0; i < train.size(); ++i)
-    {
-      m.row(i) = seq.compute(train[i].frames, train[i].stamps, p).transpose();
-      labels.push_back(train[i].label);
-    }
-    return ActionClassifier(std::move(m), labels);
-  };
-  const ActionClassifier plain = model(Pca()), reduced = model(pca);
-  const int n_train = static_cast<int>(train.size()), n_queries = static_cast<int>(queries.size());
-  std::printf("\n### Classification: %d training sequences of %d actions, %d queries, F = 30, %s "
-              "(set up in %.1f s; PCA keeps %d of %d components at 99 %% variance)\n",
-              n_train, actions, n_queries, source.c_str(), w.seconds(), pca.outputSize(), size);
-  // Ours: the pruned search (ActionClassifier::classify); baseline: a scan of every full row
-  // (classifyBruteForce), timed alternately on the same queries. Both give the same answers.
-  StageSamples seq_plain, nn_plain, all_plain, seq_pca, nn_pca, all_pca;
-  StageSamples scan_plain, scan_all_plain, scan_pca, scan_all_pca;
-  std::size_t completed_plain = 0, completed_pca = 0, disagree = 0;
-  int right_plain = 0, right_pca = 0;
+  return Pca::fit(frame_matrix, 0.99);
+}
+
+// The classifier of @p train's sequence descriptors, frames projected on @p p unless it is empty.
+ActionClassifier sequenceClassifier(const std::vector<DescriptorSequence>& train,
+                                    const SequenceDescriptor& seq, const Pca& p, int size)
+{
+  Eigen::MatrixXf m(train.size(), 30 * (p.empty() ? size : p.outputSize()));
+  std::vector<std::string> labels;
+  for (std::size_t i = 0; i < train.size(); ++i)
+  {
+    m.row(i) = seq.compute(train[i].frames, train[i].stamps, p).transpose();
+    labels.push_back(train[i].label);
+  }
+  return ActionClassifier(std::move(m), labels);
+}
+
+// One query through one classifier: its sequence descriptor, the answers of the pruned search
+// and of the full scan, and the time of each step.
+struct QueryRun
+{
+  Eigen::VectorXf descriptor;
+  Classification pruned, full;
+  double t_seq = 0.0, t_nn = 0.0, t_scan = 0.0;
+};
+
+// A classifier (without or with PCA) and its samples over the queries.
+struct TimedClassifier
+{
+  TimedClassifier(const ActionClassifier& c, const Pca& p) : classifier(c), pca(p) {}
+
+  // Runs @p q into @p r on the running stopwatch @p s; add() takes the samples afterwards, so
+  // that no bookkeeping falls into a timed step.
+  void time(Stopwatch& s, const SequenceDescriptor& seq, const DescriptorSequence& q, QueryRun& r)
+  {
+    r.descriptor = seq.compute(q.frames, q.stamps, pca);
+    r.t_seq = s.lap();
+    r.pruned = classifier.classify(r.descriptor);
+    r.t_nn = s.lap();
+    completed += ActionClassifier::lastCompletedRows();
+    r.full = classifier.classifyBruteForce(r.descriptor);
+    r.t_scan = s.lap();
+  }
+
+  // Adds the samples of @p r, a query of action @p label; true when the full scan found another
+  // neighbour than the pruned search.
+  bool add(const QueryRun& r, const std::string& label)
+  {
+    sequence.add(r.t_seq);
+    nn.add(r.t_nn);
+    all.add(r.t_seq + r.t_nn);
+    scan.add(r.t_scan);
+    scan_all.add(r.t_seq + r.t_scan);
+    right += r.pruned.label == label;
+    return r.pruned.neighbour != r.full.neighbour;
+  }
+
+  const ActionClassifier& classifier;
+  const Pca& pca;
+  StageSamples sequence, nn, all, scan, scan_all;
+  std::size_t completed = 0;  // rows the pruned search completed, over all queries
+  int right = 0;              // queries labelled right
+};
+
+// Ours: the pruned search (ActionClassifier::classify); baseline: a scan of every full row
+// (classifyBruteForce), timed alternately on the same queries. Both give the same answers.
+// Returns the queries where either classifier's two answers differ.
+std::size_t timeQueries(Clock clock, const std::vector<DescriptorSequence>& queries,
+                        const SequenceDescriptor& seq, TimedClassifier& plain,
+                        TimedClassifier& reduced)
+{
+  std::size_t disagree = 0;
   for (const auto& q : queries)
   {
-    Stopwatch s(o.clock);
-    const Eigen::VectorXf a = seq.compute(q.frames, q.stamps);
-    const double t_seq_a = s.lap();
-    const Classification ca = plain.classify(a);
-    const double t_nn_a = s.lap();
-    completed_plain += ActionClassifier::lastCompletedRows();
-    const Classification fa = plain.classifyBruteForce(a);
-    const double t_scan_a = s.lap();
-    const Eigen::VectorXf b = seq.compute(q.frames, q.stamps, pca);
-    const double t_seq_b = s.lap();
-    const Classification cb = reduced.classify(b);
-    const double t_nn_b = s.lap();
-    completed_pca += ActionClassifier::lastCompletedRows();
-    const Classification fb = reduced.classifyBruteForce(b);
-    const double t_scan_b = s.lap();
-    seq_plain.add(t_seq_a);
-    nn_plain.add(t_nn_a);
-    all_plain.add(t_seq_a + t_nn_a);
-    scan_plain.add(t_scan_a);
-    scan_all_plain.add(t_seq_a + t_scan_a);
-    seq_pca.add(t_seq_b);
-    nn_pca.add(t_nn_b);
-    all_pca.add(t_seq_b + t_nn_b);
-    scan_pca.add(t_scan_b);
-    scan_all_pca.add(t_seq_b + t_scan_b);
-    disagree += ca.neighbour != fa.neighbour || cb.neighbour != fb.neighbour;
-    right_plain += ca.label == q.label;
-    right_pca += cb.label == q.label;
+    QueryRun a, b;
+    Stopwatch s(clock);
+    plain.time(s, seq, q, a);
+    reduced.time(s, seq, q, b);
+    const bool plain_differs = plain.add(a, q.label), reduced_differs = reduced.add(b, q.label);
+    disagree += plain_differs || reduced_differs;
   }
-  header("| classification (ms); base = scan of every full row");
-  row("sequence descr. no PCA", seq_plain, nullptr);
-  row("1-NN, 5760 values", nn_plain, &scan_plain);
-  row("classify, no PCA", all_plain, &scan_all_plain);
-  row("sequence descr. + PCA", seq_pca, nullptr);
+  return disagree;
+}
+
+void printQueryTimes(const TimedClassifier& plain, const TimedClassifier& reduced, int n_train,
+                     int n_queries, std::size_t disagree)
+{
   char name[64];
-  std::snprintf(name, sizeof name, "1-NN, %d values", 30 * pca.outputSize());
-  row(name, nn_pca, &scan_pca);
-  row("classify, with PCA", all_pca, &scan_all_pca);
+  std::snprintf(name, sizeof name, "1-NN, %d values", 30 * reduced.pca.outputSize());
+  table("| classification (ms); base = scan of every full row",
+        { { "sequence descr. no PCA", plain.sequence, nullptr },
+          { "1-NN, 5760 values", plain.nn, &plain.scan },
+          { "classify, no PCA", plain.all, &plain.scan_all },
+          { "sequence descr. + PCA", reduced.sequence, nullptr },
+          { name, reduced.nn, &reduced.scan },
+          { "classify, with PCA", reduced.all, &reduced.scan_all } });
   std::printf("\nrows completed per query by the pruned search: %.1f of %d without PCA, %.1f with; "
               "answers differing from the full scan: %zu\n",
-              static_cast<double>(completed_plain) / n_queries, n_train,
-              static_cast<double>(completed_pca) / n_queries, disagree);
-  std::printf("\n(sanity: %d / %d queries labelled right without PCA, %d with)\n", right_plain, n_queries, right_pca);
+              static_cast<double>(plain.completed) / n_queries, n_train,
+              static_cast<double>(reduced.completed) / n_queries, disagree);
+  std::printf("\n(sanity: %d / %d queries labelled right without PCA, %d with)\n", plain.right,
+              n_queries, reduced.right);
+}
+
+void benchClassification(const Options& o)
+{
+  const int size = GridDescriptor().size();
+  Stopwatch w(o.clock);
+  const ClassificationSets sets = classificationSets(o, size);
+  const Pca pca = fitFramePca(sets.train, size);
+  const SequenceDescriptor seq(30);
+  const Pca none;
+  const ActionClassifier plain = sequenceClassifier(sets.train, seq, none, size),
+                         reduced = sequenceClassifier(sets.train, seq, pca, size);
+  const int n_train = static_cast<int>(sets.train.size());
+  const int n_queries = static_cast<int>(sets.queries.size());
+  std::printf("\n### Classification: %d training sequences of %d actions, %d queries, F = 30, %s "
+              "(set up in %.1f s; PCA keeps %d of %d components at 99 %% variance)\n",
+              n_train, sets.actions, n_queries, sets.source.c_str(), w.seconds(), pca.outputSize(),
+              size);
+  TimedClassifier timed_plain(plain, none), timed_reduced(reduced, pca);
+  const std::size_t disagree = timeQueries(o.clock, sets.queries, seq, timed_plain, timed_reduced);
+  printQueryTimes(timed_plain, timed_reduced, n_train, n_queries, disagree);
 }
 }  // namespace
 

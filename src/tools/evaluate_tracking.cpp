@@ -2,6 +2,7 @@
 // benchmarks score trackers (MOTA, IDF1, id switches; tracking_metrics.h). See docs/evaluation.md,
 // "Several people: tracking".
 #include "../offline/cli.h"
+#include "../offline/plot_script.h"
 #include "../offline/extraction.h"
 
 #include <action_flow/files.h>
@@ -10,7 +11,6 @@
 #include "../eval/tracking_metrics.h"
 
 #include <nlohmann/json.hpp>
-#include <ros/package.h>
 
 #include <atomic>
 #include <chrono>
@@ -162,13 +162,6 @@ std::vector<int> peopleList(const std::string& text)
   return out;
 }
 
-std::string plotScript()
-{
-  // Ask rospack only inside a ROS environment; outside it, the build's source folder.
-  const std::string pkg = std::getenv("ROS_PACKAGE_PATH") ? ros::package::getPath("action_flow") : "";
-  return (pkg.empty() ? std::string(ACTION_FLOW_SOURCE_DIR) : pkg) + "/scripts/plot_tracks.py";
-}
-
 /** Runs the scenes on @p jobs threads, printing a line per scene done. */
 std::vector<SceneResult> runAll(const std::vector<synth::SampleSpec>& specs, float gate, int jobs)
 {
@@ -279,9 +272,14 @@ int run(int argc, char** argv)
   writeReport(results, out, gate, seconds, seed);
   if (!args.has("no-plot"))
   {
-    const std::string cmd = "/usr/bin/python3 '" + plotScript() + "' '" + out + "'";
-    if (std::system(cmd.c_str()) != 0)
-      std::fprintf(stderr, "evaluate_tracking: the pictures could not be drawn (%s)\n", cmd.c_str());
+    try
+    {
+      tools::runPlotScript("plot_tracks.py", { out });
+    }
+    catch (const std::runtime_error& e)
+    {
+      std::fprintf(stderr, "evaluate_tracking: the pictures could not be drawn (%s)\n", e.what());
+    }
   }
   return 0;
 }

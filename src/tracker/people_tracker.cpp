@@ -99,6 +99,21 @@ struct PeopleTracker::Impl
   std::uint32_t next_id = 1;
   bool has_stamp = false;
   double last_stamp = 0.0;
+
+  /// Time went back (a bag restarting): every track is dropped into @p result (lost, reset), since
+  /// continuing them would mean negative velocities and nonsense matches. Returns the time step.
+  double advanceClock(double stamp, TrackerResult& result);
+  /// Corrects the matched tracks, drops the lost ones into @p lost and starts tentative tracks on
+  /// the unmatched person-like detections; returns each kept track's detection in this frame (-1:
+  /// none).
+  std::vector<int> updateTracks(const std::vector<PersonDetection>& people, const std::vector<int>& match,
+                                double stamp, const Eigen::Vector3f& camera_origin, const Eigen::Vector3f& up,
+                                const TrackerParams& params, std::vector<std::uint32_t>& lost);
+  /// The confirmed track seen in this frame, set in its person frame with its own cloud; false when it
+  /// stands right below the camera (no viewing direction to set the grid by).
+  bool trackedPerson(Track& t, const PersonDetection& d, const DetectionResult& det, const Cloud& cloud,
+                     double stamp, const Eigen::Vector3f& camera_origin, const TrackerParams& params,
+                     TrackedPerson& p);
 };
 
 PeopleTracker::PeopleTracker(const TrackerParams& params) : params_(params), impl_(std::make_unique<Impl>(params))
@@ -119,6 +134,104 @@ bool PeopleTracker::setGroundPrior(const Eigen::Vector4f& plane, const Eigen::Ve
   return impl_->detector.setGroundPrior(plane, camera);
 }
 
+double PeopleTracker::Impl::advanceClock(double stamp, TrackerResult& result)
+{
+  if (has_stamp && stamp < last_stamp)
+  {
+    result.reset = true;
+    for (const Track& t : tracks)
+      if (t.id != 0)
+        result.lost.push_back(t.id);
+    tracks.clear();
+  }
+  const double dt = has_stamp && !result.reset ? stamp - last_stamp : 0.0;
+  has_stamp = true;
+  last_stamp = stamp;
+  return dt;
+}
+
+std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetection>& people,
+                                                   const std::vector<int>& match, double stamp,
+                                                   const Eigen::Vector3f& camera_origin, const Eigen::Vector3f& up,
+                                                   const TrackerParams& params, std::vector<std::uint32_t>& lost)
+{
+  // Hidden behind a person (a person-like detection) seen in this frame: not lost yet (re-identification when they come back).
+  const auto hiddenBySomeone = [&](const Eigen::Vector3f& position) {
+    for (const PersonDetection& d : people)
+      if (!d.weak && inShadowOf(position, d.centroid, camera_origin, up))
+        return true;
+    return false;
+  };
+  std::vector<char> used(people.size(), 0);
+  std::vector<Track> kept;
+  std::vector<int> kept_detection;
+  for (std::size_t i = 0; i < tracks.size(); ++i)
+  {
+    Track& t = tracks[i];
+    if (match[i] >= 0)
+    {
+      used[match[i]] = 1;
+      t.filter.correct(people[match[i]].centroid);
+      t.hits += 1;
+      t.last_seen = stamp;
+      if (t.id == 0 && t.hits >= params.confirm_after)
+        t.id = next_id++;
+      kept.push_back(t);
+      kept_detection.push_back(match[i]);
+    }
+    else if (t.id == 0)
+    {
+      // A tentative track missing a frame was most likely clutter: dropped silently.
+    }
+    else if (stamp - t.last_seen > params.lost_after &&
+             (stamp - t.last_seen > params.hidden_lost_after || !hiddenBySomeone(t.filter.position())))
+      lost.push_back(t.id);
+    else
+    {
+      kept.push_back(t);
+      kept_detection.push_back(-1);
+    }
+  }
+  for (std::size_t j = 0; j < people.size(); ++j)
+    if (!used[j] && !people[j].weak)
+    {
+      Track t{ConstantVelocityFilter(people[j].centroid), 0, 1, stamp};
+      if (params.confirm_after <= 1)
+        t.id = next_id++;
+      kept.push_back(t);
+      kept_detection.push_back(static_cast<int>(j));
+    }
+  tracks.swap(kept);
+  return kept_detection;
+}
+
+bool PeopleTracker::Impl::trackedPerson(Track& t, const PersonDetection& d, const DetectionResult& det,
+                                        const Cloud& cloud, double stamp, const Eigen::Vector3f& camera_origin,
+                                        const TrackerParams& params, TrackedPerson& p)
+{
+  p.id = t.id;
+  p.position = d.centroid;
+  p.velocity = t.filter.velocity();
+  p.height = d.height;
+  p.hog_confidence = d.hog_confidence;
+  try
+  {
+    p.frame = PersonFrame::fromGround(d.centroid, det.ground, d.height, d.centroid - camera_origin);
+  }
+  catch (const std::invalid_argument&)
+  {
+    return false;
+  }
+  p.cloud = detector.personCloud(cloud, d);
+  if (params.align_to_facing)
+  {
+    p.facing = smoothFacing(t, facingFromTrunk(*p.cloud, p.frame), stamp, params.facing_smoothing);
+    if (std::isfinite(p.facing))
+      p.frame = p.frame.turned(p.facing);
+  }
+  return true;
+}
+
 TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eigen::Vector3f& camera_origin)
 {
   TrackerResult result;
@@ -126,19 +239,7 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
   if (!std::isfinite(stamp) || !camera_origin.allFinite() ||
       cloud.size() != static_cast<std::size_t>(cloud.width) * cloud.height)
     return result;  // ignored: state unchanged
-
-  if (s.has_stamp && stamp < s.last_stamp)
-  {
-    // A bag restarting: continuing the tracks would mean negative velocities and nonsense matches.
-    result.reset = true;
-    for (const Track& t : s.tracks)
-      if (t.id != 0)
-        result.lost.push_back(t.id);
-    s.tracks.clear();
-  }
-  const double dt = s.has_stamp && !result.reset ? stamp - s.last_stamp : 0.0;
-  s.has_stamp = true;
-  s.last_stamp = stamp;
+  const double dt = s.advanceClock(stamp, result);
 
   DetectionResult det = s.detector.detect(cloud, camera_origin);
   result.ground = det.ground;
@@ -154,83 +255,14 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
   // Gated optimal assignment on the ground.
   const Eigen::Vector3f up = det.ground_valid ? Eigen::Vector3f(det.ground.head<3>()) : Eigen::Vector3f::Zero();
   const std::vector<int> match = solveAssignment(associationCosts(s.tracks, det.people, up, stamp, params_.gate), 1.0f);
-
-  // Hidden behind a person (a person-like detection) seen in this frame: not lost yet (re-identification when they come back).
-  const auto hiddenBySomeone = [&](const Eigen::Vector3f& position) {
-    for (const PersonDetection& d : det.people)
-      if (!d.weak && inShadowOf(position, d.centroid, camera_origin, up))
-        return true;
-    return false;
-  };
-  std::vector<char> used(det.people.size(), 0);
-  std::vector<Track> kept;
-  std::vector<int> kept_detection;  // detection seen by each kept track in this frame, or -1
-  for (std::size_t i = 0; i < s.tracks.size(); ++i)
-  {
-    Track& t = s.tracks[i];
-    if (match[i] >= 0)
-    {
-      used[match[i]] = 1;
-      t.filter.correct(det.people[match[i]].centroid);
-      t.hits += 1;
-      t.last_seen = stamp;
-      if (t.id == 0 && t.hits >= params_.confirm_after)
-        t.id = s.next_id++;
-      kept.push_back(t);
-      kept_detection.push_back(match[i]);
-    }
-    else if (t.id == 0)
-    {
-      // A tentative track missing a frame was most likely clutter: dropped silently.
-    }
-    else if (stamp - t.last_seen > params_.lost_after &&
-             (stamp - t.last_seen > params_.hidden_lost_after || !hiddenBySomeone(t.filter.position())))
-      result.lost.push_back(t.id);
-    else
-    {
-      kept.push_back(t);
-      kept_detection.push_back(-1);
-    }
-  }
-  for (std::size_t j = 0; j < det.people.size(); ++j)
-    if (!used[j] && !det.people[j].weak)
-    {
-      Track t{ConstantVelocityFilter(det.people[j].centroid), 0, 1, stamp};
-      if (params_.confirm_after <= 1)
-        t.id = s.next_id++;
-      kept.push_back(t);
-      kept_detection.push_back(static_cast<int>(j));
-    }
-  s.tracks.swap(kept);
+  const std::vector<int> seen = s.updateTracks(det.people, match, stamp, camera_origin, up, params_, result.lost);
 
   for (std::size_t i = 0; i < s.tracks.size(); ++i)
   {
-    Track& t = s.tracks[i];
-    if (t.id == 0 || kept_detection[i] < 0)
-      continue;
-    const PersonDetection& d = det.people[kept_detection[i]];
     TrackedPerson p;
-    p.id = t.id;
-    p.position = d.centroid;
-    p.velocity = t.filter.velocity();
-    p.height = d.height;
-    p.hog_confidence = d.hog_confidence;
-    try
-    {
-      p.frame = PersonFrame::fromGround(d.centroid, det.ground, d.height, d.centroid - camera_origin);
-    }
-    catch (const std::invalid_argument&)
-    {
-      continue;  // right below the camera: no viewing direction to set the grid by
-    }
-    p.cloud = s.detector.personCloud(cloud, d);
-    if (params_.align_to_facing)
-    {
-      p.facing = smoothFacing(t, facingFromTrunk(*p.cloud, p.frame), stamp, params_.facing_smoothing);
-      if (std::isfinite(p.facing))
-        p.frame = p.frame.turned(p.facing);
-    }
-    result.people.push_back(std::move(p));
+    if (s.tracks[i].id != 0 && seen[i] >= 0 &&
+        s.trackedPerson(s.tracks[i], det.people[seen[i]], det, cloud, stamp, camera_origin, params_, p))
+      result.people.push_back(std::move(p));
   }
   return result;
 }

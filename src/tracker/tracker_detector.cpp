@@ -741,23 +741,18 @@ void mergeFragments(const Eigen::Vector3f& up, std::vector<PersonDetection>& can
     }
   }
 }
-}  // namespace
-
-DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f& origin)
+/**
+ * Every usable point of @p cloud (finite, within max_range of @p origin) into @p valid (for the
+ * person clouds), and of those every sampling_factor-th in each direction of an organised cloud into
+ * @p sampled (what feeds the detection voxels).
+ */
+void usablePoints(const Cloud& cloud, const Eigen::Vector3f& origin, const TrackerParams& params,
+                  pcl::Indices& valid, pcl::Indices& sampled)
 {
-  DetectionResult out;
-  if (cloud.empty() || cloud.size() != static_cast<std::size_t>(cloud.width) * cloud.height || !origin.allFinite())
-    return out;
-
-  // ---- finite points in range, voxelised ----
-  const float range2 = params_.max_range * params_.max_range;
-  // Kept from frame to frame: a 640x480 frame's index lists are megabytes, and allocating them
-  // afresh each frame costs page faults.
-  pcl::Indices& valid = impl_->valid;  // every usable point (for the person clouds)
-  const pcl::IndicesPtr& sampled = impl_->sampled;  // those that feed the detection voxels
+  const float range2 = params.max_range * params.max_range;
   valid.clear();
-  sampled->clear();
-  const std::size_t step = cloud.height > 1 ? static_cast<std::size_t>(params_.sampling_factor) : 1;
+  sampled.clear();
+  const std::size_t step = cloud.height > 1 ? static_cast<std::size_t>(params.sampling_factor) : 1;
   for (std::size_t i = 0; i < cloud.size(); ++i)
   {
     const PointT& p = cloud[i];
@@ -766,38 +761,58 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
     {
       valid.push_back(static_cast<pcl::index_t>(i));
       if (step == 1 || ((i % cloud.width) % step == 0 && (i / cloud.width) % step == 0))
-        sampled->push_back(static_cast<pcl::index_t>(i));
+        sampled.push_back(static_cast<pcl::index_t>(i));
     }
   }
-  if (sampled->size() < 3)
-  {
-    out.ground_valid = params_.ground || impl_->ground.valid();
-    out.ground_assumed = !params_.ground && impl_->ground.assumed();
-    if (out.ground_valid)
-      out.ground = params_.ground ? Eigen::Vector4f(*params_.ground / params_.ground->head<3>().norm())
-                                  : impl_->ground.plane();
-    return out;
-  }
-  auto voxels = pcl::make_shared<Cloud>(voxelFiltered(cloud, params_.detection_voxel_size, sampled));
+}
 
-  // ---- ground ----
-  Eigen::Vector4f ground;
-  if (params_.ground)
+/**
+ * The ground into @p out (unit normal, the camera at @p origin above it): the fixed params.ground, or
+ * @p estimator's after it has seen @p voxels (nullptr: too few points this frame, not updated).
+ * False while there is none.
+ */
+bool groundPlane(const Cloud* voxels, const Eigen::Vector3f& origin, const TrackerParams& params,
+                 GroundEstimator& estimator, DetectionResult& out)
+{
+  if (params.ground)
   {
-    ground = *params_.ground / params_.ground->head<3>().norm();
-    if (ground.head<3>().dot(origin) + ground[3] < 0.0f)
-      ground = -ground;
+    out.ground = *params.ground / params.ground->head<3>().norm();
+    if (out.ground.head<3>().dot(origin) + out.ground[3] < 0.0f)
+      out.ground = -out.ground;
   }
   else
   {
-    impl_->ground.update(*voxels, origin, params_.up_hint);
-    if (!impl_->ground.valid())
-      return out;
-    ground = impl_->ground.plane();
-    out.ground_assumed = impl_->ground.assumed();
+    if (voxels)
+      estimator.update(*voxels, origin, params.up_hint);
+    if (!estimator.valid())
+      return false;
+    out.ground = estimator.plane();
+    out.ground_assumed = estimator.assumed();
   }
-  out.ground = ground;
   out.ground_valid = true;
+  return true;
+}
+}  // namespace
+
+DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f& origin)
+{
+  DetectionResult out;
+  if (cloud.empty() || cloud.size() != static_cast<std::size_t>(cloud.width) * cloud.height || !origin.allFinite())
+    return out;
+
+  // ---- finite points in range, voxelised; the ground ----
+  // The index lists are kept from frame to frame: a 640x480 frame's are megabytes, and allocating
+  // them afresh each frame costs page faults.
+  usablePoints(cloud, origin, params_, impl_->valid, *impl_->sampled);
+  if (impl_->sampled->size() < 3)
+  {
+    groundPlane(nullptr, origin, params_, impl_->ground, out);
+    return out;
+  }
+  auto voxels = pcl::make_shared<Cloud>(voxelFiltered(cloud, params_.detection_voxel_size, impl_->sampled));
+  if (!groundPlane(voxels.get(), origin, params_, impl_->ground, out))
+    return out;
+  const Eigen::Vector4f ground = out.ground;
   const Eigen::Vector3f up = ground.head<3>();
   const float camera_height = heightAbove(ground, origin);
 
@@ -823,7 +838,7 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
 
   // ---- the candidates and what makes them people (or weak: able to continue a track only) ----
   Candidates found = sizedCandidates(members, *level, *above, ground, grid, params_);
-  collectFullResolution(cloud, valid, ground, params_, found);
+  collectFullResolution(cloud, impl_->valid, ground, params_, found);
   std::vector<PersonDetection>& candidates = found.people;
   keepFreeStanding(cloud, ground, origin, walls, params_, candidates);
   markWideTops(cloud, ground, origin, params_, candidates);
