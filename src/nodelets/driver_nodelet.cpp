@@ -8,6 +8,7 @@
 #include "../driver/openni2_device.h"
 
 #include <action_flow/depth_cloud.h>
+#include <action_flow/ros/camera_info.h>
 #include <action_flow/ros/input_checks.h>
 #include <action_flow/ros/stage_diagnostics.h>
 #include <action_flow/types.h>
@@ -205,15 +206,7 @@ private:
       NODELET_WARN_ONCE("the calibration is for %ux%u, the device delivers %dx%d: using the device's intrinsics",
                         info.width, info.height, f.width, f.height);
     }
-    info = sensor_msgs::CameraInfo();
-    info.width = f.width;
-    info.height = f.height;
-    info.distortion_model = "plumb_bob";
-    info.D.assign(5, 0.0);
-    info.K = { f.fx, 0, f.cx, 0, f.fy, f.cy, 0, 0, 1 };
-    info.R = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
-    info.P = { f.fx, 0, f.cx, 0, 0, f.fy, f.cy, 0, 0, 0, 1, 0 };
-    return info;
+    return pinholeCameraInfo(f.width, f.height, f.fx, f.fy, f.cx, f.cy);
   }
 
   void publish(const RgbdFrame& f)

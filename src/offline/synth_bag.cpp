@@ -5,6 +5,7 @@
 
 #include <action_flow/files.h>
 #include <action_flow/kinect_depth.h>
+#include <action_flow/ros/camera_info.h>
 
 #include <geometry_msgs/TransformStamped.h>
 #include <pcl_conversions/pcl_conversions.h>
@@ -154,15 +155,8 @@ rosbag::CompressionType bagCompression(const BagOptions& o)
 /** The camera_info of @p cam, without stamp and sequence number. */
 sensor_msgs::CameraInfo cameraInfo(const CameraModel& cam)
 {
-  sensor_msgs::CameraInfo info;
+  sensor_msgs::CameraInfo info = pinholeCameraInfo(cam.width, cam.height, cam.fx, cam.fy, cam.cx, cam.cy);
   info.header.frame_id = kRgbFrame;
-  info.width = std::uint32_t(cam.width);
-  info.height = std::uint32_t(cam.height);
-  info.distortion_model = "plumb_bob";
-  info.D.assign(5, 0.0);
-  info.K = { cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1 };
-  info.R = { 1, 0, 0, 0, 1, 0, 0, 0, 1 };
-  info.P = { cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0 };
   return info;
 }
 

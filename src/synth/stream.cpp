@@ -154,6 +154,32 @@ void holdBreathing(StreamMotion& out, int n, double period, double fps)
   }
 }
 
+// Streams 1..@p streams of each of @p persons, of @p actions actions each, in @p dataset; @p caller
+// names the function in the message when a count is out of range.
+std::vector<SampleSpec> streamSpecs(const char* caller, const std::string& dataset,
+                                    const std::vector<std::string>& persons, int streams, int actions,
+                                    std::uint64_t seed)
+{
+  if (streams < 1 || streams > kMaxCount)
+    throw std::invalid_argument(std::string(caller) + ": streams must be 1..99, got " + std::to_string(streams));
+  if (actions < 1 || actions > kMaxCount)
+    throw std::invalid_argument(std::string(caller) + ": actions must be 1..99, got " + std::to_string(actions));
+  std::vector<SampleSpec> out;
+  for (const std::string& person : persons)
+    for (int k = 1; k <= streams; ++k)
+    {
+      SampleSpec s;
+      s.dataset = dataset;
+      s.person = person;
+      s.action = "stream";
+      s.repetition = k;
+      s.seed = seed;
+      s.stream_actions = actions;
+      out.push_back(s);
+    }
+  return out;
+}
+
 // The stream number, its action count and its (empty or 'stream') action, as a stream's name gives
 // them; @throws std::invalid_argument naming the one out of range.
 void checkStreamNumbers(const SampleSpec& spec)
@@ -334,26 +360,14 @@ std::vector<SampleSpec> streamSamples(int first_person, int people, int streams,
   if (first_person < 1 || first_person + people - 1 > kMaxCount)
     throw std::invalid_argument("streamSamples: persons p" + std::to_string(first_person) + "..p" +
                                 std::to_string(first_person + people - 1) + " outside p01..p99");
-  if (streams < 1 || streams > kMaxCount)
-    throw std::invalid_argument("streamSamples: streams must be 1..99, got " + std::to_string(streams));
-  if (actions < 1 || actions > kMaxCount)
-    throw std::invalid_argument("streamSamples: actions must be 1..99, got " + std::to_string(actions));
-  std::vector<SampleSpec> out;
+  std::vector<std::string> persons;
   for (int p = first_person; p < first_person + people; ++p)
-    for (int k = 1; k <= streams; ++k)
-    {
-      char id[8];
-      std::snprintf(id, sizeof id, "p%02d", p);
-      SampleSpec s;
-      s.dataset = "stream";
-      s.person = id;
-      s.action = "stream";
-      s.repetition = k;
-      s.seed = seed;
-      s.stream_actions = actions;
-      out.push_back(s);
-    }
-  return out;
+  {
+    char id[8];
+    std::snprintf(id, sizeof id, "p%02d", p);
+    persons.push_back(id);
+  }
+  return streamSpecs("streamSamples", "stream", persons, streams, actions, seed);
 }
 
 std::vector<std::string> streamActions(const SampleSpec& spec)
@@ -466,25 +480,12 @@ std::vector<SampleSpec> msrStreamSamples(const std::string& folder, const std::v
                                          int streams, int actions, std::uint64_t seed,
                                          const std::vector<std::string>& pool)
 {
-  if (streams < 1 || streams > kMaxCount)
-    throw std::invalid_argument("msrStreamSamples: streams must be 1..99, got " + std::to_string(streams));
-  if (actions < 1 || actions > kMaxCount)
-    throw std::invalid_argument("msrStreamSamples: actions must be 1..99, got " + std::to_string(actions));
-  std::vector<SampleSpec> out;
-  for (const std::string& subject : subjects)
-    for (int k = 1; k <= streams; ++k)
-    {
-      SampleSpec s;
-      s.dataset = "msr_stream";
-      s.person = subject;
-      s.action = "stream";
-      s.repetition = k;
-      s.seed = seed;
-      s.skeleton_file = folder;
-      s.stream_actions = actions;
-      s.stream_pool = pool;
-      out.push_back(s);
-    }
+  std::vector<SampleSpec> out = streamSpecs("msrStreamSamples", "msr_stream", subjects, streams, actions, seed);
+  for (SampleSpec& s : out)
+  {
+    s.skeleton_file = folder;
+    s.stream_pool = pool;
+  }
   // The last stream of each subject checks the spec and that there are sequences enough.
   for (size_t i = size_t(streams) - 1; i < out.size(); i += size_t(streams))
     msrStreamSequences(out[i]);
