@@ -3,8 +3,9 @@
 
 confusion_<variant>.png for every variant, accuracy_vs_frames.png (the paper's Figure 8) when
 the report has a frames sweep, cross_view.png (accuracy against the test view) for the cross-view
-protocol, and ablation.md, a table of the variants beside the paper's
-numbers. Writes each file under a temporary name and renames it."""
+protocol, reliability.png (share right against confidence, for the default recognizer, the
+paper's and the joint baseline), and ablation.md, a table of the variants (accuracy, mean
+confidence, expected calibration error) beside the paper's numbers. Writes each file under a temporary name and renames it."""
 import json
 import os
 import sys
@@ -80,11 +81,41 @@ def cross_view(report, out):
     save(fig, os.path.join(out, "cross_view.png"))
 
 
+RELIABILITY_VARIANTS = ("posture_flow", "sumflow_pca", "joints")
+
+
+def reliability(report, out):
+    shown = [v for v in report["variants"]
+             if v["variant"] in RELIABILITY_VARIANTS and v["confusion"].get("reliability", {}).get("answers")]
+    if not shown:
+        return
+    fig, ax = plt.subplots(figsize=(5, 5))
+    ax.plot([0, 1], [0, 1], "k:", lw=1, label="calibrated")
+    for v in shown:
+        r = v["confusion"]["reliability"]
+        pts = [(b["confidence"], b["correct"] / b["count"]) for b in r["bins"] if b["count"]]
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", ms=4,
+                label=f"{v['title']} (ECE {r['expected_calibration_error']:.2f})")
+    ax.set_xlim(0, 1)
+    ax.set_ylim(0, 1)
+    ax.set_xlabel("confidence of the label given (bin mean)")
+    ax.set_ylabel("share of those labels that were right")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+    ax.set_title(f"Reliability of the confidence ({report['protocol']})")
+    save(fig, os.path.join(out, "reliability.png"))
+
+
 def table(report, out):
-    lines = ["| variant | accuracy (ours) | paper (IAS-Lab) |", "|---|---|---|"]
+    lines = ["| variant | accuracy (ours) | mean confidence | calibration error (ECE) | paper (IAS-Lab) |",
+             "|---|---|---|---|---|"]
     for v in report["variants"]:
         paper = PAPER.get(v["variant"])
-        lines.append(f"| {v['title']} | {100 * v['accuracy']:.1f}% | {'' if paper is None else f'{paper}%'} |")
+        r = v["confusion"].get("reliability", {})
+        conf = f"{r['mean_confidence']:.2f}" if r.get("answers") else ""
+        ece = f"{r['expected_calibration_error']:.2f}" if r.get("answers") else ""
+        lines.append(f"| {v['title']} | {100 * v['accuracy']:.1f}% | {conf} | {ece} | "
+                     f"{'' if paper is None else f'{paper}%'} |")
     tmp = os.path.join(out, "ablation.md.tmp")
     with open(tmp, "w") as f:
         f.write("\n".join(lines) + "\n")
@@ -107,6 +138,7 @@ def main():
         sweep(report, out)
     if "cross_view" in report:
         cross_view(report, out)
+    reliability(report, out)
     table(report, out)
 
 

@@ -50,6 +50,17 @@ def check(report, out):
             for k in ("precision", "recall"):
                 need(pc, k, NUMBER, f"{where}.per_class.{label}")
             need(pc, "support", int, f"{where}.per_class.{label}")
+        rel = need(c, "reliability", dict, where + ".confusion") or {}
+        answers = need(rel, "answers", int, where + ".reliability")
+        for k in ("mean_confidence", "expected_calibration_error"):
+            x = need(rel, k, NUMBER, where + ".reliability")
+            if x is not None and not 0 <= x <= 1:
+                problems.append(f"{where}.reliability.{k}: {x} is not in [0, 1]")
+        bins = need(rel, "bins", list, where + ".reliability") or []
+        if len(bins) != 10:
+            problems.append(f"{where}.reliability.bins: {len(bins)} bins, expected 10")
+        elif answers is not None and sum(b.get("count", 0) for b in bins) != answers:
+            problems.append(f"{where}.reliability.bins: counts do not add up to {answers} answers")
         if name:
             for ext in ("csv", "png"):
                 f = os.path.join(out, f"confusion_{name}.{ext}")

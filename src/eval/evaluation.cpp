@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <numeric>
 #include <thread>
 #include <cstdint>
 #include <cstdio>
@@ -219,6 +221,42 @@ void Confusion::add(const std::string& truth, const std::string& predicted)
   if (t == labels.end() || p == labels.end())
     throw std::invalid_argument("Confusion: unknown label '" + (t == labels.end() ? truth : predicted) + "'");
   ++counts[t - labels.begin()][p - labels.begin()];
+}
+
+void Confusion::add(const std::string& truth, const std::string& predicted, float confidence)
+{
+  add(truth, predicted);
+  reliability.add(confidence, truth == predicted);
+}
+
+void Reliability::add(float confidence, bool right)
+{
+  const double c = std::isfinite(confidence) ? std::clamp(static_cast<double>(confidence), 0.0, 1.0) : 0.0;
+  const int bin = std::min(kBins - 1, static_cast<int>(c * kBins));
+  ++count[bin];
+  correct[bin] += right ? 1 : 0;
+  confidence_sum[bin] += c;
+}
+
+int Reliability::total() const
+{
+  return std::accumulate(count.begin(), count.end(), 0);
+}
+
+double Reliability::meanConfidence() const
+{
+  const int n = total();
+  return n == 0 ? 0.0 : std::accumulate(confidence_sum.begin(), confidence_sum.end(), 0.0) / n;
+}
+
+double Reliability::expectedCalibrationError() const
+{
+  const int n = total();
+  double e = 0.0;
+  for (int b = 0; b < kBins; ++b)
+    if (count[b] > 0)
+      e += std::abs(static_cast<double>(correct[b]) - confidence_sum[b]) / n;
+  return e;
 }
 
 int Confusion::total() const
@@ -542,7 +580,7 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
           throw std::invalid_argument("runFolds: fold '" + fold.name + "' trains on person " + samples[r].person +
                                       " whom it tests");
   // Folds are independent: up to `jobs` of them train at once; their answers are merged in fold order.
-  std::vector<std::vector<std::string>> predicted(folds.size());
+  std::vector<std::vector<Classification>> predicted(folds.size());
   std::vector<std::string> errors(folds.size());
   std::atomic<std::size_t> next{ 0 };
   const auto worker = [&]() {
@@ -556,7 +594,7 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
         const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr);
         const SequenceClassifier classifier = model.classifier();
         for (std::size_t t : fold.test)
-          predicted[f].push_back(classifier.classify(sequenceOf(samples[t], model)).label);
+          predicted[f].push_back(classifier.classify(sequenceOf(samples[t], model)));
       }
       catch (const std::exception& e)
       {
@@ -578,8 +616,9 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
     Confusion mine(all.labels);
     for (std::size_t i = 0; i < folds[f].test.size(); ++i)
     {
-      all.add(samples[folds[f].test[i]].action, predicted[f][i]);
-      mine.add(samples[folds[f].test[i]].action, predicted[f][i]);
+      const Classification& answer = predicted[f][i];
+      all.add(samples[folds[f].test[i]].action, answer.label, answer.confidence);
+      mine.add(samples[folds[f].test[i]].action, answer.label);
     }
     if (fold_accuracy)
       fold_accuracy->push_back(mine.accuracy());

@@ -74,15 +74,42 @@ void saveSampleFrames(const std::string& path, const SampleFrames& frames);
 /** @brief Reads a cache file; returns false if it is absent, @throws DatasetError if it is damaged. */
 bool loadSampleFrames(const std::string& path, SampleFrames& frames);
 
+/**
+ * @brief How well a classifier's confidence says how often it is right (a reliability diagram): its
+ *        answers dealt into kBins equal bins of confidence, each with its mean confidence and the
+ *        share of it that was right. A calibrated confidence has the two equal in every bin.
+ */
+struct Reliability
+{
+  static constexpr int kBins = 10;
+  std::vector<int> count = std::vector<int>(kBins, 0);
+  std::vector<int> correct = std::vector<int>(kBins, 0);
+  std::vector<double> confidence_sum = std::vector<double>(kBins, 0.0);
+
+  /** @brief One answer; a confidence outside [0, 1] is clamped into it. */
+  void add(float confidence, bool right);
+  int total() const;
+  /** @brief Mean confidence of the answers (0 without any). */
+  double meanConfidence() const;
+  /**
+   * @brief The expected calibration error: over the bins, weighted by their answers, the mean
+   *        |share right - mean confidence| (0 without any answers).
+   */
+  double expectedCalibrationError() const;
+};
+
 /** @brief Confusion matrix and the figures derived from it. */
 struct Confusion
 {
   std::vector<std::string> labels;              ///< class names, rows = truth, columns = prediction
   std::vector<std::vector<int>> counts;
+  Reliability reliability;  ///< of the answers added with a confidence
 
   explicit Confusion(std::vector<std::string> labels);
   /** @throws std::invalid_argument for a label not in labels */
   void add(const std::string& truth, const std::string& predicted);
+  /** @brief The same, and the answer's confidence into reliability. */
+  void add(const std::string& truth, const std::string& predicted, float confidence);
   int total() const;
   double accuracy() const;
   /** @brief Per class; 0 where the class was never predicted (precision) or never present (recall). */

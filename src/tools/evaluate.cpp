@@ -3,6 +3,7 @@
 // baseline, and writes a report folder: report.json, confusion matrices (CSV and PNG), the paper's
 // accuracy against frames per sequence (its Figure 8) and an ablation table.
 #include "../offline/cli.h"
+#include "../offline/plot_script.h"
 #include "../offline/extraction.h"
 #include "../offline/detection_protocol.h"
 #include "../offline/online_protocol.h"
@@ -11,7 +12,6 @@
 #include <action_flow/files.h>
 #include <action_flow/synth/skeleton.h>
 
-#include <ros/package.h>
 
 #include <nlohmann/json.hpp>
 
@@ -144,9 +144,9 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
     Confusion mine(all.labels);
     for (std::size_t t : fold.test)
     {
-      const std::string predicted = c.classify(x.row(static_cast<Eigen::Index>(t)).transpose()).label;
-      all.add(labels[t], predicted);
-      mine.add(labels[t], predicted);
+      const Classification answer = c.classify(x.row(static_cast<Eigen::Index>(t)).transpose());
+      all.add(labels[t], answer.label, answer.confidence);
+      mine.add(labels[t], answer.label);
     }
     fold_accuracy.push_back(mine.accuracy());
   }
@@ -160,7 +160,20 @@ json confusionJson(const Confusion& c)
   const auto s = c.support();
   for (std::size_t i = 0; i < c.labels.size(); ++i)
     per_class[c.labels[i]] = { { "precision", p[i] }, { "recall", r[i] }, { "support", s[i] } };
-  return { { "labels", c.labels }, { "matrix", c.counts }, { "per_class", per_class } };
+  const Reliability& rel = c.reliability;
+  json bins = json::array();
+  for (int b = 0; b < Reliability::kBins; ++b)
+    bins.push_back({ { "count", rel.count[b] },
+                     { "correct", rel.correct[b] },
+                     { "confidence", rel.count[b] ? rel.confidence_sum[b] / rel.count[b] : 0.0 } });
+  return { { "labels", c.labels },
+           { "matrix", c.counts },
+           { "per_class", per_class },
+           { "reliability",
+             { { "answers", rel.total() },
+               { "mean_confidence", rel.meanConfidence() },
+               { "expected_calibration_error", rel.expectedCalibrationError() },
+               { "bins", bins } } } };
 }
 
 std::string confusionCsv(const Confusion& c)
@@ -179,12 +192,6 @@ std::string confusionCsv(const Confusion& c)
   return out;
 }
 
-std::string plotScript()
-{
-  // Ask rospack only inside a ROS environment; outside it, the build's source folder.
-  const std::string pkg = std::getenv("ROS_PACKAGE_PATH") ? ros::package::getPath("action_flow") : "";
-  return (pkg.empty() ? std::string(ACTION_FLOW_SOURCE_DIR) : pkg) + "/scripts/plot_report.py";
-}
 }  // namespace
 
 // Every variant evaluate knows, and the frame descriptor sets they read.
@@ -372,6 +379,99 @@ json framesSweep(const RecognitionParams& sum, const RecognitionParams& pca, con
   return curve;
 }
 
+/** A classification protocol's command line, every option checked, and the samples it names. */
+struct Evaluation
+{
+  RecognitionParams base;
+  int jobs = 0;
+  std::string protocol;
+  int sweep = 0;
+  TrackerParams tracker;
+  CrossViewSet cross_view;
+  std::vector<SampleRef> samples;
+};
+
+Evaluation parseEvaluation(const Args& args)
+{
+  Evaluation e;
+  e.base = methodParams(args);
+  e.jobs = jobsOption(args);
+  e.protocol = args.get("protocol", "lopo");
+  e.sweep = static_cast<int>(args.integer("sweep", e.protocol == "cross-view" ? 0 : 40, 0, 200));
+  e.tracker = trackerParams(args);
+  if (e.protocol == "cross-view")
+    e.cross_view = crossViewSamples(args);
+  e.samples = e.protocol == "cross-view" ? e.cross_view.samples : selectSamples(args);
+  if (e.samples.empty())
+    throw std::invalid_argument("no samples to evaluate");
+  return e;
+}
+
+std::vector<std::string> personsOf(const std::vector<SampleRef>& samples)
+{
+  std::vector<std::string> persons;
+  for (const auto& s : samples)
+    persons.push_back(s.person);
+  return persons;
+}
+
+// The report's opening: the protocol, its folds and its samples.
+json reportHead(const Evaluation& e, const std::vector<std::string>& persons,
+                const std::vector<Fold>& folds, const std::vector<SampleFrames>& frames)
+{
+  std::size_t no_flow = 0;
+  for (const auto& f : frames)
+    no_flow += f.descriptors.rows() == 0;
+  json report;
+  report["protocol"] = e.protocol;
+  report["folds"] = folds.size();
+  report["samples"] = { { "total", e.samples.size() },
+                        { "people", uniqueSorted(persons).size() },
+                        { "without_flow", no_flow },
+                        { "train_per_fold", folds.front().train.size() },
+                        { "test_per_fold", folds.front().test.size() } };
+  report["frames"] = e.base.frames;
+  return report;
+}
+
+// Every variant over the folds (their confusion matrices into dir), the cross-view table and the
+// paper's frames sweep, into the report.
+void classifyVariants(const Evaluation& e, const VariantTable& table,
+                      const std::vector<Variant>& variants, const std::vector<Fold>& folds,
+                      const std::vector<std::vector<SampleFrames>>& frames, const std::string& dir,
+                      json& report)
+{
+  const RecognitionParams& sum = table.extractions[0];
+  RecognitionParams pca = sum;
+  pca.use_pca = true;
+  // The PCA basis of each fold, fitted once on its frame descriptors (it does not depend on F),
+  // serves the PCA variant and the whole frames sweep.
+  std::vector<Pca> fold_pcas;
+  const json results = variantResults(variants, e.samples, frames, folds, e.jobs, dir, fold_pcas);
+  report["variants"] = results;
+  if (e.protocol == "cross-view")
+    report["cross_view"] = crossViewTable(e.cross_view, results);
+  if (e.sweep > 0)
+    report["frames_sweep"] =
+        framesSweep(sum, pca, labelledSamples(e.samples, frames[0]), folds, e.sweep, fold_pcas);
+}
+
+// The timing into the report, DIR/report.json, then (unless --no-plots) the report's pictures.
+void writeReport(const Args& args, const std::string& dir, json& report, int jobs,
+                 std::chrono::steady_clock::time_point t0, std::chrono::steady_clock::time_point t1)
+{
+  const auto t2 = std::chrono::steady_clock::now();
+  report["timing"] = { { "descriptors_s", std::chrono::duration<double>(t1 - t0).count() },
+                       { "classification_s", std::chrono::duration<double>(t2 - t1).count() },
+                       { "total_s", std::chrono::duration<double>(t2 - t0).count() },
+                       { "jobs", jobs } };
+  writeTextAtomically(dir + "/report.json", report.dump(2) + "\n");
+  std::printf("evaluate: report in %s/report.json (%.0f s)\n", dir.c_str(),
+              std::chrono::duration<double>(t2 - t0).count());
+  if (!args.has("no-plots"))
+    tools::runPlotScript("plot_report.py", { dir });
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -384,79 +484,26 @@ int main(int argc, char** argv)
     if (args.get("protocol") == "detection")  // the people tracker alone, on scenes of its own
       return runDetectionProtocol(args, args.get("output"));
     const auto t0 = std::chrono::steady_clock::now();
-    // Every option is checked before any work starts.
-    const RecognitionParams base = methodParams(args);
-    const int jobs = jobsOption(args);
-    const std::string protocol = args.get("protocol", "lopo");
-    const int sweep = static_cast<int>(args.integer("sweep", protocol == "cross-view" ? 0 : 40, 0, 200));
-    const TrackerParams tracker = trackerParams(args);
-    CrossViewSet cross_view;
-    if (protocol == "cross-view")
-      cross_view = crossViewSamples(args);
-    std::vector<SampleRef> samples = protocol == "cross-view" ? cross_view.samples : selectSamples(args);
-    if (samples.empty())
-      throw std::invalid_argument("no samples to evaluate");
-
+    const Evaluation e = parseEvaluation(args);  // every option is checked before any work starts
     if (args.get("protocol") == "online")
-      return runOnlineProtocol(args, samples, args.get("output"));
-    const VariantTable table = variantTable(base);
-    const std::vector<RecognitionParams>& extractions = table.extractions;
-    const RecognitionParams& sum = extractions[0];
-    RecognitionParams pca = sum;
-    pca.use_pca = true;
+      return runOnlineProtocol(args, e.samples, args.get("output"));
+    const VariantTable table = variantTable(e.base);
     const std::vector<Variant> variants = selectVariants(table.all, args);
     installInterruptHandler();
-    std::vector<std::string> persons;
-    for (const auto& s : samples)
-      persons.push_back(s.person);
-    const std::vector<Fold> folds = protocolFolds(protocol, persons, args, cross_view);
-    std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", samples.size(),
-                 uniqueSorted(persons).size(), folds.size(), protocol.c_str());
+    const std::vector<std::string> persons = personsOf(e.samples);
+    const std::vector<Fold> folds = protocolFolds(e.protocol, persons, args, e.cross_view);
+    std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", e.samples.size(),
+                 uniqueSorted(persons).size(), folds.size(), e.protocol.c_str());
 
-    const auto frames = extractAll(samples, extractions, tracker, cacheDir(args), jobs);
-    refuseEmptySamples(samples, frames[0], args.has("allow-empty"));
+    const auto frames = extractAll(e.samples, table.extractions, e.tracker, cacheDir(args), e.jobs);
+    refuseEmptySamples(e.samples, frames[0], args.has("allow-empty"));
     const auto t1 = std::chrono::steady_clock::now();
-
-    const auto labelled = [&](std::size_t extraction) { return labelledSamples(samples, frames[extraction]); };
-    std::size_t no_flow = 0;
-    for (const auto& f : frames[0])
-      no_flow += f.descriptors.rows() == 0;
 
     const std::string dir = args.get("output");
     ::mkdir(dir.c_str(), 0755);
-    json report;
-    report["protocol"] = protocol;
-    report["folds"] = folds.size();
-    report["samples"] = { { "total", samples.size() },
-                          { "people", uniqueSorted(persons).size() },
-                          { "without_flow", no_flow },
-                          { "train_per_fold", folds.front().train.size() },
-                          { "test_per_fold", folds.front().test.size() } };
-    report["frames"] = base.frames;
-    // The PCA basis of each fold, fitted once on its frame descriptors (it does not depend on F),
-    // serves the PCA variant and the whole frames sweep.
-    std::vector<Pca> fold_pcas;
-    const json results = variantResults(variants, samples, frames, folds, jobs, dir, fold_pcas);
-    report["variants"] = results;
-    if (protocol == "cross-view")
-      report["cross_view"] = crossViewTable(cross_view, results);
-
-    if (sweep > 0)
-      report["frames_sweep"] = framesSweep(sum, pca, labelled(0), folds, sweep, fold_pcas);
-    const auto t2 = std::chrono::steady_clock::now();
-    report["timing"] = { { "descriptors_s", std::chrono::duration<double>(t1 - t0).count() },
-                         { "classification_s", std::chrono::duration<double>(t2 - t1).count() },
-                         { "total_s", std::chrono::duration<double>(t2 - t0).count() },
-                         { "jobs", jobs } };
-    writeTextAtomically(dir + "/report.json", report.dump(2) + "\n");
-    std::printf("evaluate: report in %s/report.json (%.0f s)\n", dir.c_str(),
-                std::chrono::duration<double>(t2 - t0).count());
-    if (!args.has("no-plots"))
-    {
-      const std::string cmd = "/usr/bin/python3 '" + plotScript() + "' '" + dir + "'";
-      if (std::system(cmd.c_str()) != 0)
-        throw std::runtime_error("plotting failed: " + cmd);
-    }
+    json report = reportHead(e, persons, folds, frames[0]);
+    classifyVariants(e, table, variants, folds, frames, dir, report);
+    writeReport(args, dir, report, e.jobs, t0, t1);
     return 0;
   });
 }

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 
 using namespace action_flow;
@@ -136,6 +137,44 @@ TEST(Confusion, AccuracyPrecisionRecall)
   EXPECT_THROW(c.add("a", "zzz"), std::invalid_argument);
 }
 
+TEST(Reliability, KnownAnswers)
+{
+  Reliability r;
+  EXPECT_EQ(r.total(), 0);
+  EXPECT_DOUBLE_EQ(r.expectedCalibrationError(), 0.0);
+  EXPECT_DOUBLE_EQ(r.meanConfidence(), 0.0);
+  // Three answers at 0.95 of which two right, one at 0.15 that was wrong: bins 9 and 1.
+  r.add(0.95f, true);
+  r.add(0.95f, true);
+  r.add(0.95f, false);
+  r.add(0.15f, false);
+  EXPECT_EQ(r.total(), 4);
+  EXPECT_EQ(r.count[9], 3);
+  EXPECT_EQ(r.correct[9], 2);
+  EXPECT_EQ(r.count[1], 1);
+  EXPECT_NEAR(r.meanConfidence(), (3 * 0.95 + 0.15) / 4, 1e-6);
+  // (|2 - 2.85| + |0 - 0.15|) / 4
+  EXPECT_NEAR(r.expectedCalibrationError(), 0.25, 1e-6);
+  // Confidence 1 falls in the last bin; outside [0, 1] (or NaN) is clamped.
+  r.add(1.0f, true);
+  r.add(-0.5f, false);
+  r.add(std::numeric_limits<float>::quiet_NaN(), false);
+  EXPECT_EQ(r.count[9], 4);
+  EXPECT_EQ(r.count[0], 2);
+  EXPECT_NEAR(r.confidence_sum[0], 0.0, 1e-12);
+}
+
+TEST(Reliability, ConfusionRecordsConfidenceOnlyWhenGiven)
+{
+  Confusion c({ "a", "b" });
+  c.add("a", "a");
+  c.add("a", "b", 0.8f);
+  EXPECT_EQ(c.total(), 2);
+  EXPECT_EQ(c.reliability.total(), 1);
+  EXPECT_EQ(c.reliability.correct[8], 0);
+  EXPECT_NEAR(c.reliability.expectedCalibrationError(), 0.8, 1e-6);
+}
+
 TEST(Experiments, SeparableActionsAreAllRecognised)
 {
   std::vector<SampleFrames> frames;
@@ -157,6 +196,10 @@ TEST(Experiments, SeparableActionsAreAllRecognised)
   EXPECT_EQ(c.total(), 12);
   EXPECT_DOUBLE_EQ(c.accuracy(), 1.0);
   EXPECT_EQ(per_fold.size(), 4u);
+  // Every test answer came with its confidence, in [0, 1].
+  EXPECT_EQ(c.reliability.total(), 12);
+  EXPECT_GT(c.reliability.meanConfidence(), 0.0);
+  EXPECT_LE(c.reliability.meanConfidence(), 1.0);
 
   params.use_pca = true;
   params.pca_variance = 0.9;
@@ -281,6 +324,10 @@ TEST(Experiments, DefaultRecognizerRecognisesSeparableActions)
   EXPECT_EQ(c.total(), 12);
   EXPECT_DOUBLE_EQ(c.accuracy(), 1.0);
   EXPECT_EQ(per_fold.size(), 4u);
+  // Every test answer came with its confidence, in [0, 1].
+  EXPECT_EQ(c.reliability.total(), 12);
+  EXPECT_GT(c.reliability.meanConfidence(), 0.0);
+  EXPECT_LE(c.reliability.meanConfidence(), 1.0);
 
   const ActionModel m = trainModel(s.samples, { 0, 1, 2, 3, 4, 5 }, params);
   EXPECT_NE(m.params.pyramid.mirror, MirrorMode::Choose) << "the choice is recorded in the model";
