@@ -124,9 +124,11 @@ struct ActionModel
   /**
    * Bumped whenever the layout of the file changes; other versions are refused with a clear
    * message. Version 4 stores the parameters by name (param_table.h), so adding one no longer
-   * changes the layout; files of versions 1-3 must be retrained.
+   * changes the layout; files of versions 1-3 must be retrained. Version 5 adds the linear
+   * classifier's temperature; version 4 files still load, uncalibrated.
    */
-  static constexpr std::uint32_t kFormatVersion = 4;
+  static constexpr std::uint32_t kFormatVersion = 5;
+  static constexpr std::uint32_t kOldestReadableVersion = 4;
 
   RecognitionParams params;
   Pca pca;                          ///< empty unless params.use_pca

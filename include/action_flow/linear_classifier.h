@@ -5,8 +5,12 @@
  *
  * Training uses liblinear (Debian's liblinear-dev). A trained classifier is only its weights, so
  * classifying is a matrix-vector product here, without liblinear: inputs are standardised with
- * the training set's column means and overall spread, each label's score w.x + b becomes 1 / (1 + exp(-score)),
- * and the scores are divided by their sum, exactly as liblinear's predict_probability does.
+ * the training set's column means and overall spread, and each label's score is s = w.x + b.
+ *
+ * The probability of a label: calibrated (temperature T > 0, fitted by fitTemperature on answers
+ * the classifier did not train on), the softmax of s / T; uncalibrated (T = 0, as in model files
+ * before format 5), 1 / (1 + exp(-s)) divided by the sum over labels, as liblinear's
+ * predict_probability does.
  */
 #pragma once
 
@@ -24,7 +28,7 @@ public:
   LinearClassifier() = default;
   /** @brief From stored parts; @throws std::invalid_argument if their sizes disagree. */
   LinearClassifier(std::vector<std::string> classes, Eigen::MatrixXf weights, Eigen::VectorXf bias,
-                   Eigen::VectorXf mean, Eigen::VectorXf scale);
+                   Eigen::VectorXf mean, Eigen::VectorXf scale, double temperature = 0.0);
 
   /**
    * @brief Trains on one descriptor per row of @p x.
@@ -48,6 +52,11 @@ public:
   Classification classify(const Eigen::VectorXf& query) const;
   /** @brief The probability of each of classes(), in that order. */
   Eigen::VectorXf probabilities(const Eigen::VectorXf& query) const;
+  /** @brief Each label's score w.x + b, in the order of classes(). */
+  Eigen::VectorXf scores(const Eigen::VectorXf& query) const;
+  /** @brief The same classifier with its probabilities the softmax of the scores / @p temperature
+   *         (0: uncalibrated). @throws std::invalid_argument if @p temperature < 0 or not finite */
+  LinearClassifier calibrated(double temperature) const;
 
   bool empty() const { return classes_.empty(); }
   int dimension() const { return static_cast<int>(mean_.size()); }
@@ -56,11 +65,26 @@ public:
   const Eigen::VectorXf& bias() const { return bias_; }
   const Eigen::VectorXf& mean() const { return mean_; }
   const Eigen::VectorXf& scale() const { return scale_; }  ///< multiplies each centred input (1 / the training set's spread)
+  double temperature() const { return temperature_; }       ///< 0: uncalibrated
 
 private:
   std::vector<std::string> classes_;
   Eigen::MatrixXf weights_;
   Eigen::VectorXf bias_, mean_, scale_;
+  double temperature_ = 0.0;
 };
+
+/** @brief The temperatures fitTemperature chooses among: [kMinTemperature, kMaxTemperature]. */
+constexpr double kMinTemperature = 0.05, kMaxTemperature = 20.0;
+
+/**
+ * @brief The temperature T that makes softmax(scores / T) most likely to give the true labels
+ *        (least negative log-likelihood; the likelihood is log-concave in 1 / T, so a golden-section
+ *        search over log T finds it), within [kMinTemperature, kMaxTemperature].
+ * @param scores one row of label scores per answer
+ * @param truth the true label's column per row
+ * @throws std::invalid_argument on no rows, a size mismatch, a column out of range or non-finite scores
+ */
+double fitTemperature(const Eigen::MatrixXf& scores, const std::vector<int>& truth);
 
 }  // namespace action_flow

@@ -157,7 +157,8 @@ RecognitionParams getParams(Reader& r)
   return p;
 }
 
-void readLinear(Reader& r, ActionModel& m)
+// @p version 4 files end before the temperature: they load uncalibrated.
+void readLinear(Reader& r, ActionModel& m, std::uint32_t version)
 {
   const auto n = r.get<std::uint64_t>();
   if (n > 100000)
@@ -166,13 +167,14 @@ void readLinear(Reader& r, ActionModel& m)
   for (std::uint64_t i = 0; i < n; ++i)
     classes.push_back(r.getString());
   Eigen::MatrixXf w = r.getMatrix(), b = r.getMatrix(), mean = r.getMatrix(), scale = r.getMatrix();
+  const double temperature = version >= 5 ? r.get<double>() : 0.0;
   if (n == 0 && w.size() == 0)
     return;
   if (b.cols() != 1 || mean.cols() != 1 || scale.cols() != 1)
     r.fail("linear classifier: bias, mean and scale must be vectors");
   try
   {
-    m.linear = LinearClassifier(classes, w, b.col(0), mean.col(0), scale.col(0));
+    m.linear = LinearClassifier(classes, w, b.col(0), mean.col(0), scale.col(0), temperature);
   }
   catch (const std::invalid_argument& e)
   {
@@ -249,6 +251,7 @@ void ActionModel::save(const std::string& path) const
   w.putMatrix(linear.bias());
   w.putMatrix(linear.mean());
   w.putMatrix(linear.scale());
+  w.put<double>(linear.temperature());
   const std::string& payload = w.bytes();
   std::string file(kMagic, sizeof(kMagic));
   const std::uint32_t version = kFormatVersion, crc = crc32(payload);
@@ -283,9 +286,10 @@ ActionModel ActionModel::load(const std::string& path)
   if (std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
     header.fail("not an action_flow model (bad magic)");
   const auto version = header.get<std::uint32_t>();
-  if (version != kFormatVersion)
-    header.fail("format version " + std::to_string(version) + ", this build reads version " +
-                std::to_string(kFormatVersion) + "; retrain the model with this build's train");
+  if (version != kFormatVersion && version != kOldestReadableVersion)
+    header.fail("format version " + std::to_string(version) + ", this build reads versions " +
+                std::to_string(kOldestReadableVersion) + "-" + std::to_string(kFormatVersion) +
+                "; retrain the model with this build's train");
   const auto size = header.get<std::uint64_t>();
   const auto crc = header.get<std::uint32_t>();
   const std::size_t head = sizeof(kMagic) + 4 + 8 + 4;
@@ -315,7 +319,7 @@ ActionModel ActionModel::load(const std::string& path)
     m.labels.push_back(r.getString());
     m.persons.push_back(r.getString());
   }
-  readLinear(r, m);
+  readLinear(r, m, version);
   if (!r.done())
     r.fail("unexpected data after the last record");
   if (m.params.use_pca == m.pca.empty())

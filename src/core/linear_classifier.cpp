@@ -20,15 +20,22 @@ void quiet(const char*)
 }  // namespace
 
 LinearClassifier::LinearClassifier(std::vector<std::string> classes, Eigen::MatrixXf weights, Eigen::VectorXf bias,
-                                   Eigen::VectorXf mean, Eigen::VectorXf scale)
+                                   Eigen::VectorXf mean, Eigen::VectorXf scale, double temperature)
   : classes_(std::move(classes)), weights_(std::move(weights)), bias_(std::move(bias)), mean_(std::move(mean)),
-    scale_(std::move(scale))
+    scale_(std::move(scale)), temperature_(temperature)
 {
   const Eigen::Index k = static_cast<Eigen::Index>(classes_.size());
   if (weights_.rows() != k || bias_.size() != k || weights_.cols() != mean_.size() || scale_.size() != mean_.size())
     throw std::invalid_argument("LinearClassifier: sizes of classes, weights, bias, mean and scale disagree");
   if (!weights_.allFinite() || !bias_.allFinite() || !mean_.allFinite() || !scale_.allFinite())
     throw std::invalid_argument("LinearClassifier: non-finite weights");
+  if (!(temperature_ >= 0.0) || !std::isfinite(temperature_))
+    throw std::invalid_argument("LinearClassifier: the temperature must be a finite value >= 0");
+}
+
+LinearClassifier LinearClassifier::calibrated(double temperature) const
+{
+  return LinearClassifier(classes_, weights_, bias_, mean_, scale_, temperature);
 }
 
 LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels, double c,
@@ -161,7 +168,7 @@ std::vector<LinearClassifier> LinearClassifier::train(const Eigen::MatrixXf& x, 
   return out;
 }
 
-Eigen::VectorXf LinearClassifier::probabilities(const Eigen::VectorXf& query) const
+Eigen::VectorXf LinearClassifier::scores(const Eigen::VectorXf& query) const
 {
   if (empty())
     throw std::invalid_argument("LinearClassifier: not trained");
@@ -169,7 +176,24 @@ Eigen::VectorXf LinearClassifier::probabilities(const Eigen::VectorXf& query) co
     throw std::invalid_argument("LinearClassifier: query of length " + std::to_string(query.size()) + ", expected " +
                                 std::to_string(mean_.size()) + " finite values");
   const Eigen::VectorXf z = (query - mean_).cwiseProduct(scale_);
-  const Eigen::ArrayXf score = (weights_ * z + bias_).array();
+  return weights_ * z + bias_;
+}
+
+namespace
+{
+// softmax(s / T), computed from the largest score down so that no exp overflows.
+Eigen::VectorXd softmax(const Eigen::VectorXd& s, double temperature)
+{
+  const Eigen::ArrayXd e = ((s.array() - s.maxCoeff()) / temperature).exp();
+  return (e / e.sum()).matrix();
+}
+}  // namespace
+
+Eigen::VectorXf LinearClassifier::probabilities(const Eigen::VectorXf& query) const
+{
+  const Eigen::ArrayXf score = scores(query).array();
+  if (temperature_ > 0.0)
+    return softmax(score.matrix().cast<double>(), temperature_).cast<float>();
   Eigen::VectorXf p = (1.0f / (1.0f + (-score).exp())).matrix();
   const float sum = p.sum();
   return sum > 0.0f ? Eigen::VectorXf(p / sum) : Eigen::VectorXf(Eigen::VectorXf::Constant(p.size(), 1.0f / p.size()));
@@ -190,6 +214,51 @@ Classification LinearClassifier::classify(const Eigen::VectorXf& query) const
   c.margin = p[best] - second;
   c.distance = 1.0f - p[best];
   return c;
+}
+
+double fitTemperature(const Eigen::MatrixXf& scores, const std::vector<int>& truth)
+{
+  if (scores.rows() == 0 || scores.rows() != static_cast<Eigen::Index>(truth.size()))
+    throw std::invalid_argument("fitTemperature: needs one true label per row of scores, and at least one row");
+  if (!scores.allFinite())
+    throw std::invalid_argument("fitTemperature: non-finite scores");
+  for (int t : truth)
+    if (t < 0 || t >= scores.cols())
+      throw std::invalid_argument("fitTemperature: true label column " + std::to_string(t) + " outside 0.." +
+                                  std::to_string(scores.cols() - 1));
+  const Eigen::MatrixXd s = scores.cast<double>();
+  // Negative log-likelihood at log T = @p u.
+  const auto nll = [&](double u) {
+    const double t = std::exp(u);
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < s.rows(); ++i)
+    {
+      const double top = s.row(i).maxCoeff();
+      sum += top / t + std::log(((s.row(i).array() - top) / t).exp().sum()) - s(i, truth[i]) / t;
+    }
+    return sum;
+  };
+  const double golden = (std::sqrt(5.0) - 1.0) / 2.0;
+  double lo = std::log(kMinTemperature), hi = std::log(kMaxTemperature);
+  double a = hi - golden * (hi - lo), b = lo + golden * (hi - lo), fa = nll(a), fb = nll(b);
+  while (hi - lo > 1e-6)
+    if (fa <= fb)
+    {
+      hi = b;
+      b = a;
+      fb = fa;
+      a = hi - golden * (hi - lo);
+      fa = nll(a);
+    }
+    else
+    {
+      lo = a;
+      a = b;
+      fa = fb;
+      b = lo + golden * (hi - lo);
+      fb = nll(b);
+    }
+  return std::exp((lo + hi) / 2.0);
 }
 
 }  // namespace action_flow

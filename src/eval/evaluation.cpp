@@ -339,10 +339,37 @@ Eigen::VectorXf mirroredSequenceOf(const LabelledSample& sample, const ActionMod
   return model.sequence(frames, stamps);
 }
 
-// Accuracy on the originals of the people in @p held_out, trained on everyone else's rows (and
-// their mirrored copies, when given).
-// (for each of @p cs; empty when the fold cannot be used)
-std::vector<double> foldAccuracies(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
+// What a classifier trained without some people answered on their originals: how many were right,
+// and the label scores with the true label's column for those whose label it knows (to fit the
+// temperature on).
+struct HeldOutAnswers
+{
+  int right = 0, total = 0;
+  std::vector<Eigen::VectorXf> scores;
+  std::vector<int> truth;
+
+  void add(const HeldOutAnswers& o)
+  {
+    right += o.right;
+    total += o.total;
+    scores.insert(scores.end(), o.scores.begin(), o.scores.end());
+    truth.insert(truth.end(), o.truth.begin(), o.truth.end());
+  }
+  double accuracy() const { return total > 0 ? static_cast<double>(right) / total : 0.0; }
+  double temperature() const
+  {
+    if (scores.empty())
+      return 0.0;
+    Eigen::MatrixXf s(static_cast<Eigen::Index>(scores.size()), scores.front().size());
+    for (std::size_t i = 0; i < scores.size(); ++i)
+      s.row(static_cast<Eigen::Index>(i)) = scores[i].transpose();
+    return fitTemperature(s, truth);
+  }
+};
+
+// The answers on the originals of the people in @p held_out, trained on everyone else's rows (and
+// their mirrored copies, when given), for each of @p cs; empty when the fold cannot be used.
+std::vector<HeldOutAnswers> foldAnswers(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
                                    const std::vector<std::string>& labels, const std::vector<std::string>& persons,
                                    const std::vector<std::string>& held_out, const std::vector<double>& cs)
 {
@@ -360,15 +387,31 @@ std::vector<double> foldAccuracies(const Eigen::MatrixXf& x, const Eigen::Matrix
   {
     xt.conservativeResize(2 * xt.rows(), Eigen::NoChange);
     xt.bottomRows(train.size()) = (*mirrored)(train, Eigen::all);
-    train_labels.insert(train_labels.end(), train_labels.begin(), train_labels.end());
+    // Not insert(end, begin, end): on growing, the vector moves its strings out before copying the
+    // range, and the copies' labels came out empty (a junk class that made mirroring look bad).
+    const std::vector<std::string> originals = train_labels;
+    train_labels.insert(train_labels.end(), originals.begin(), originals.end());
   }
-  std::vector<double> out;
+  // Scores count for the temperature only from classifiers that know every label (all of the
+  // same length).
+  const std::size_t all_labels = uniqueSorted(labels).size();
+  std::vector<HeldOutAnswers> out;
   for (const LinearClassifier& classifier : LinearClassifier::train(xt, train_labels, cs))
   {
-    int right = 0;
+    HeldOutAnswers a;
+    const std::vector<std::string>& known = classifier.classes();
     for (Eigen::Index i : test)
-      right += classifier.classify(x.row(i).transpose()).label == labels[i];
-    out.push_back(static_cast<double>(right) / static_cast<double>(test.size()));
+    {
+      a.right += classifier.classify(x.row(i).transpose()).label == labels[i];
+      ++a.total;
+      const auto at = std::lower_bound(known.begin(), known.end(), labels[i]);
+      if (known.size() == all_labels && at != known.end() && *at == labels[i])
+      {
+        a.scores.push_back(classifier.scores(x.row(i).transpose()));
+        a.truth.push_back(static_cast<int>(at - known.begin()));
+      }
+    }
+    out.push_back(std::move(a));
   }
   return out;
 }
@@ -390,31 +433,42 @@ LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirro
   LinearChoice best{ c_options.front(), mirror_options.front(), -1.0 };
   if (k < 2)
     return best;  // one person: nothing to cross-validate on
+  HeldOutAnswers best_answers;
   for (bool m : mirror_options)
   {
     if (m && !mirrored)
       throw std::invalid_argument("chooseLinear: mirrored copies are an option but none were given");
     std::vector<double> sum(c_options.size(), 0.0);
+    std::vector<HeldOutAnswers> answers(c_options.size());
     int used = 0;
     for (int f = 0; f < k; ++f)
     {
       std::vector<std::string> held_out;
       for (std::size_t p = f; p < people.size(); p += k)
         held_out.push_back(people[p]);
-      const std::vector<double> a = foldAccuracies(x, m ? mirrored : nullptr, labels, persons, held_out, c_options);
+      const std::vector<HeldOutAnswers> a = foldAnswers(x, m ? mirrored : nullptr, labels, persons, held_out, c_options);
       if (a.empty())
         continue;
       for (std::size_t i = 0; i < a.size(); ++i)
-        sum[i] += a[i];
+      {
+        sum[i] += a[i].accuracy();
+        answers[i].add(a[i]);
+      }
       ++used;
     }
     for (std::size_t i = 0; i < c_options.size(); ++i)
     {
       const double mean = used > 0 ? sum[i] / used : 0.0;
       if (mean > best.score + 1e-9)  // ties keep the earlier option: no mirror, the smaller C
+      {
         best = { c_options[i], m, mean };
+        best_answers = std::move(answers[i]);
+      }
     }
   }
+  // The chosen setting's held-out answers were given by classifiers trained on fewer people than
+  // the final one; their temperature is what the final one is calibrated with.
+  best.temperature = best_answers.temperature();
   return best;
 }
 
@@ -483,8 +537,9 @@ struct TrainingRows
 
 // posture_flow with the linear classifier: C, the mirrored copies and the flow encoding, whichever
 // are not fixed, chosen by cross-validation inside the training people (all that @p t holds) and
-// written into @p pyramid; @p x and @p mirrored receive the rows under the choice.
-void chooseLinearSettings(const TrainingRows& t, const ActionModel& model, PyramidParams& pyramid, Eigen::MatrixXf& x,
+// written into @p pyramid; @p x and @p mirrored receive the rows under the choice. Returns the
+// temperature fitted on the chosen setting's held-out answers (0 with fewer than 2 people).
+double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, PyramidParams& pyramid, Eigen::MatrixXf& x,
                           Eigen::MatrixXf& mirrored)
 {
   std::vector<bool> mirror_options;
@@ -513,6 +568,7 @@ void chooseLinearSettings(const TrainingRows& t, const ActionModel& model, Pyram
   }
   pyramid.c = best.c;
   pyramid.mirror = best.mirror ? MirrorMode::On : MirrorMode::Off;
+  return best.temperature;
 }
 }  // namespace
 
@@ -530,10 +586,11 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
   const bool posture_flow = params.recognizer == Recognizer::PostureFlow;
   const bool linear = posture_flow && pyramid.classifier == PyramidClassifier::Linear;
   Eigen::MatrixXf x, mirrored;
+  double temperature = 0.0;
   if (!posture_flow)
     t.describe(model, FlowEncoding::Bins, false, x, mirrored);
-  else if (linear && (!(pyramid.c > 0.0) || pyramid.mirror == MirrorMode::Choose || pyramid.flow == FlowEncoding::Choose))
-    chooseLinearSettings(t, model, pyramid, x, mirrored);
+  else if (linear)
+    temperature = chooseLinearSettings(t, model, pyramid, x, mirrored);
   else
   {
     // 1-NN has nothing to fit: what is not fixed takes the fuller option.
@@ -554,7 +611,7 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
     model.persons.insert(model.persons.end(), t.persons.begin(), t.persons.end());
   }
   if (linear)
-    model.linear = LinearClassifier::train(model.descriptors, model.labels, pyramid.c);
+    model.linear = LinearClassifier::train(model.descriptors, model.labels, pyramid.c).calibrated(temperature);
   return model;
 }
 

@@ -133,7 +133,9 @@ struct LabelledSample
  *        descriptor (no flow was ever found) counts as one still frame: all zeros.
  *        posture_flow: with pyramid.mirror On each sample is added mirrored too; with the linear
  *        classifier, pyramid.c = 0, mirror Choose and flow Choose are decided by cross-validation
- *        (chooseLinear) on these rows alone, and the choice is recorded in the model's parameters.
+ *        (chooseLinear) on these rows alone, and the choice is recorded in the model's parameters;
+ *        the same cross-validation (also when nothing is left to choose) fits the classifier's
+ *        temperature, so that its probabilities are calibrated (uncalibrated with one person).
  * @throws std::invalid_argument if @p rows is empty
  */
 ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
@@ -148,6 +150,7 @@ struct LinearChoice
   double c = 0.0;
   bool mirror = false;  ///< train with the mirrored copies too
   double score = -1.0;  ///< its mean accuracy over the held-out groups (-1: not cross-validated)
+  double temperature = 0.0;  ///< fitted on its held-out answers (fitTemperature; 0: not cross-validated)
 };
 
 /**
@@ -155,8 +158,9 @@ struct LinearChoice
  *        copies (of @p mirror_options; @p mirrored holds row i mirrored), by cross-validation over
  *        people: the people of @p persons are dealt into @p inner_folds groups, each group is held
  *        out in turn (its original rows are the queries), and the setting with the best mean
- *        accuracy wins (on a tie the earlier option). Only the rows given are seen, so called on a
- *        fold's training set it never sees a test person.
+ *        accuracy wins (on a tie the earlier option). The temperature that calibrates the
+ *        probabilities is fitted on the held-out answers of the setting chosen. Only the rows given
+ *        are seen, so called on a fold's training set it never sees a test person.
  */
 LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
                           const std::vector<std::string>& labels, const std::vector<std::string>& persons,

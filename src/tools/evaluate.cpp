@@ -140,7 +140,8 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
       train_persons.push_back(persons[r]);
     }
     const Eigen::MatrixXf xt = x(train, Eigen::all);
-    const LinearClassifier c = LinearClassifier::train(xt, train_labels, chooseLinear(xt, nullptr, train_labels, train_persons, { false }, linearCandidates()).c);
+    const LinearChoice choice = chooseLinear(xt, nullptr, train_labels, train_persons, { false }, linearCandidates());
+    const LinearClassifier c = LinearClassifier::train(xt, train_labels, choice.c).calibrated(choice.temperature);
     Confusion mine(all.labels);
     for (std::size_t t : fold.test)
     {

@@ -300,6 +300,23 @@ TEST(ActionModel, OlderFormatVersionsAreRefusedWithRetrain)
   std::remove(path.c_str());
 }
 
+// A version 4 file (the release before the linear classifier's temperature) still loads, as it
+// was; a version 5 file without its temperature is refused as truncated.
+TEST(ActionModel, Version4FilesLoadUncalibrated)
+{
+  const ActionModel m = smallModel();
+  const std::string path = tempPath("v4.model");
+  m.save(path);
+  rewriteAsVersion(path, 4, [](std::string& payload) { payload.resize(payload.size() - sizeof(double)); });
+  const ActionModel back = ActionModel::load(path);
+  EXPECT_EQ(back.descriptors, m.descriptors);
+  EXPECT_EQ(back.labels, m.labels);
+  EXPECT_EQ(back.linear.temperature(), 0.0);
+  rewriteAsVersion(path, ActionModel::kFormatVersion, [](std::string&) {});
+  EXPECT_THROW(ActionModel::load(path), ModelError);
+  std::remove(path.c_str());
+}
+
 // A parameter the build does not know (a file from a newer build) is refused, naming it.
 TEST(ActionModel, UnknownParameterInTheFileIsRefusedByName)
 {

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 using namespace action_flow;
@@ -291,6 +292,67 @@ TEST(LinearClassifier, SolvingInTheRowsSpanGivesTheFullSolution)
     EXPECT_LT((span.probabilities(x.row(i).transpose()) - full.probabilities(x.row(i).transpose())).norm(), 0.01f);
 }
 
+// A hand-made classifier whose scores are the query itself: known probabilities.
+TEST(LinearClassifier, CalibratedProbabilitiesAreTheSoftmaxOfScoresOverTheTemperature)
+{
+  const LinearClassifier raw({ "a", "b", "c" }, Eigen::MatrixXf::Identity(3, 3), Eigen::VectorXf::Zero(3),
+                             Eigen::VectorXf::Zero(3), Eigen::VectorXf::Ones(3));
+  Eigen::VectorXf q(3);
+  q << 2.0f, 0.0f, 0.0f;
+  EXPECT_LT((raw.scores(q) - q).norm(), 1e-6f);
+  // Uncalibrated: the logistic probabilities divided by their sum.
+  const double s2 = 1.0 / (1.0 + std::exp(-2.0));
+  EXPECT_NEAR(raw.probabilities(q)[0], s2 / (s2 + 1.0), 1e-6);
+  EXPECT_EQ(raw.temperature(), 0.0);
+  // T = 2: softmax(1, 0, 0).
+  const LinearClassifier hot = raw.calibrated(2.0);
+  EXPECT_EQ(hot.temperature(), 2.0);
+  EXPECT_NEAR(hot.probabilities(q)[0], std::exp(1.0) / (std::exp(1.0) + 2.0), 1e-6);
+  EXPECT_NEAR(hot.probabilities(q)[1], 1.0 / (std::exp(1.0) + 2.0), 1e-6);
+  EXPECT_NEAR(hot.classify(q).confidence, std::exp(1.0) / (std::exp(1.0) + 2.0), 1e-6);
+  // A lower temperature is surer, never of another label; huge scores do not overflow.
+  EXPECT_GT(raw.calibrated(0.5).classify(q).confidence, hot.classify(q).confidence);
+  EXPECT_EQ(raw.calibrated(0.5).classify(q).label, "a");
+  q << 0.0f, 5000.0f, 4990.0f;
+  EXPECT_NEAR(raw.calibrated(0.05).probabilities(q)[1], 1.0f, 1e-6f);
+  EXPECT_TRUE(raw.calibrated(0.05).probabilities(q).allFinite());
+  EXPECT_THROW(raw.calibrated(-1.0), std::invalid_argument);
+  EXPECT_THROW(raw.calibrated(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+}
+
+// Labels drawn from softmax(scores / 2.5) give back a temperature of 2.5; labels that always go to
+// the top score give the surest temperature, labels unrelated to the scores the flattest.
+TEST(LinearClassifier, FitTemperatureRecoversTheTemperatureThatDrewTheLabels)
+{
+  std::mt19937 rng(11);
+  std::normal_distribution<float> score(0.0f, 3.0f);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int n = 20000, k = 4;
+  Eigen::MatrixXf s(n, k);
+  std::vector<int> drawn, top, unrelated;
+  for (int i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < k; ++j)
+      s(i, j) = score(rng);
+    const Eigen::ArrayXd p = (s.row(i).cast<double>().array() / 2.5).exp();
+    double r = u(rng) * p.sum();
+    int pick = 0;
+    while (pick < k - 1 && (r -= p[pick]) > 0.0)
+      ++pick;
+    drawn.push_back(pick);
+    Eigen::Index best = 0;
+    s.row(i).maxCoeff(&best);
+    top.push_back(static_cast<int>(best));
+    unrelated.push_back(i % k);
+  }
+  EXPECT_NEAR(fitTemperature(s, drawn), 2.5, 0.1);
+  EXPECT_NEAR(fitTemperature(s, top), kMinTemperature, 1e-3);
+  EXPECT_GT(fitTemperature(s, unrelated), 0.9 * kMaxTemperature);
+  EXPECT_THROW(fitTemperature(s, { 0, 1 }), std::invalid_argument);
+  EXPECT_THROW(fitTemperature(s.topRows(1), { 4 }), std::invalid_argument);
+  EXPECT_THROW(fitTemperature(Eigen::MatrixXf(0, 4), {}), std::invalid_argument);
+}
+
 TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
 {
   Eigen::MatrixXf x;
@@ -307,7 +369,7 @@ TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
   m.descriptors.leftCols(5) = x;
   m.labels = labels;
   m.persons = persons;
-  m.linear = LinearClassifier::train(m.descriptors, labels, 0.5);
+  m.linear = LinearClassifier::train(m.descriptors, labels, 0.5).calibrated(1.7);
   const std::string path = ::testing::TempDir() + "posture_flow.model";
   m.save(path);
   const ActionModel back = ActionModel::load(path);
@@ -317,6 +379,7 @@ TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
   EXPECT_EQ(back.params.pyramid.geometry_weight, m.params.pyramid.geometry_weight);
   EXPECT_EQ(back.linear.weights(), m.linear.weights());
   EXPECT_EQ(back.linear.classes(), m.linear.classes());
+  EXPECT_EQ(back.linear.temperature(), 1.7);
   for (int i = 0; i < x.rows(); ++i)
   {
     const Classification a = m.classifier().classify(m.descriptors.row(i).transpose());

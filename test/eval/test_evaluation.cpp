@@ -356,9 +356,58 @@ TEST(Experiments, ModelSelectionNeverSeesATestPerson)
   EXPECT_EQ(before.params.pyramid.c, after.params.pyramid.c);
   EXPECT_EQ(before.params.pyramid.mirror, after.params.pyramid.mirror);
   EXPECT_EQ(before.linear.weights(), after.linear.weights());
+  EXPECT_EQ(before.linear.temperature(), after.linear.temperature());
+  EXPECT_GT(before.linear.temperature(), 0.0) << "the probabilities are calibrated";
   for (const auto& p : before.persons)
     EXPECT_NE(p, "p0");
   // The candidates are tried: C is one of them.
   EXPECT_NE(std::find(linearCandidates().begin(), linearCandidates().end(), before.params.pyramid.c),
             linearCandidates().end());
+}
+
+// Five overlapping classes (about 60% separable): the temperature fitted by chooseLinear on the
+// training people's held-out answers makes the confidence on new people match how often it is
+// right, far better than the uncalibrated probabilities do.
+TEST(Experiments, CalibratedConfidenceMatchesAccuracyOnNewPeople)
+{
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 1.0f);
+  const auto draw = [&](int n, const std::string& person_prefix, Eigen::MatrixXf& x, std::vector<std::string>& labels,
+                        std::vector<std::string>& persons) {
+    x.resize(n, 8);
+    for (int i = 0; i < n; ++i)
+    {
+      const int c = i % 5;
+      for (int j = 0; j < 8; ++j)
+        x(i, j) = noise(rng) + (j == c ? 1.6f : 0.0f);
+      labels.push_back("a" + std::to_string(c));
+      persons.push_back(person_prefix + std::to_string(i % 6));
+    }
+  };
+  Eigen::MatrixXf train, test;
+  std::vector<std::string> train_labels, train_persons, test_labels, test_persons;
+  draw(600, "p", train, train_labels, train_persons);
+  draw(3000, "q", test, test_labels, test_persons);
+  const LinearChoice choice = chooseLinear(train, nullptr, train_labels, train_persons, { false }, { 0.1 });
+  ASSERT_GT(choice.temperature, 0.0);
+  const LinearClassifier raw = LinearClassifier::train(train, train_labels, choice.c);
+  const LinearClassifier calibrated = raw.calibrated(choice.temperature);
+  Reliability before, after;
+  for (Eigen::Index i = 0; i < test.rows(); ++i)
+  {
+    const Classification a = raw.classify(test.row(i).transpose()), b = calibrated.classify(test.row(i).transpose());
+    EXPECT_EQ(a.label, b.label);
+    before.add(a.confidence, a.label == test_labels[i]);
+    after.add(b.confidence, b.label == test_labels[i]);
+  }
+  EXPECT_LT(after.expectedCalibrationError(), 0.05);
+  EXPECT_GT(before.expectedCalibrationError(), 2.0 * after.expectedCalibrationError());
+  // With mirrored copies among the options (here: the same rows), the chosen setting is calibrated too.
+  const LinearChoice with_mirror = chooseLinear(train, &train, train_labels, train_persons, { true }, { 0.1 });
+  EXPECT_TRUE(with_mirror.mirror);
+  EXPECT_GT(with_mirror.temperature, 0.0);
+  EXPECT_NEAR(with_mirror.score, choice.score, 0.05) << "copies of the same rows change little: the mirrored "
+                                                         "option must be scored with the copies' true labels";
+  // One person: nothing to fit on.
+  EXPECT_EQ(chooseLinear(train, nullptr, train_labels, std::vector<std::string>(600, "p"), { false }, { 0.1 }).temperature, 0.0);
 }
