@@ -117,6 +117,16 @@ struct TrackerParams
    *  most twice gate), so a person passing behind another comes back under their own id.
    *  Must be at least lost_after; equal to it turns the re-identification off. */
   double hidden_lost_after = 2.0;
+  /** A person who was lost (out of view, or hidden for longer than hidden_lost_after) gets their id
+   *  back when a new track, as it is confirmed, looks like them: their height within
+   *  reid_max_height_difference, their clothes' colours within reid_max_colour_distance (the Hellinger
+   *  distance of the colour histograms of tracker_appearance.h, 0 = the same, 1 = disjoint), and no
+   *  farther from where they were last seen than gate plus 2 m/s for the time in between. A lost
+   *  person is remembered this long (s); 0 turns it off. A confirmed track still coasting unseen
+   *  (its detection jumped beyond the gate) is continued the same way, and then never reported lost. */
+  double reid_after = 10.0;
+  float reid_max_colour_distance = 0.15f;
+  float reid_max_height_difference = 0.25f;  // loose: a person acting (arms up, bending) changes height
 
   // ---- added for orientation (evaluate --protocol cross-view) ----
   /** The descriptor grid turns with the person: its depth axis points where they face, estimated
@@ -163,6 +173,9 @@ struct TrackerParams
     v("remove_walls", p.remove_walls, "remove walls before clustering", s);
     v("max_head_ratio", p.max_head_ratio, "a new person's head width / shoulder width at most (0 = off)", s);
     v("hidden_lost_after", p.hidden_lost_after, "s: a track hidden behind a nearer person is kept this long", s);
+    v("reid_after", p.reid_after, "s: a lost person is given their id back when they return this soon (0 = off)", s);
+    v("reid_max_colour_distance", p.reid_max_colour_distance, "... with clothes' colours this close (Hellinger, 0-1)", s);
+    v("reid_max_height_difference", p.reid_max_height_difference, "m: ... and a height this close", s);
     v("align_to_facing", p.align_to_facing, "the grid turns to where the person faces", s);
     v("facing_smoothing", p.facing_smoothing, "s: time constant of the facing's smoothing", s);
   }
@@ -178,7 +191,9 @@ std::string defaultHogClassifierFile();
 /** @brief One tracked person in one frame. */
 struct TrackedPerson
 {
-  std::uint32_t id = 0;                             ///< stable over the track's life, never reused
+  /** Stable over the track's life; a person re-identified after being lost (reid_after) gets their
+   *  old id back, and the ids of different people never repeat. */
+  std::uint32_t id = 0;
   Eigen::Vector3f position = Eigen::Vector3f::Zero(); ///< centroid (input frame)
   Eigen::Vector3f velocity = Eigen::Vector3f::Zero(); ///< from the motion model (m/s)
   float height = 0.0f;                              ///< top of head above the ground
@@ -223,7 +238,8 @@ public:
    * until a floor is seen); they never throw. Nor do clouds whose width*height does not match
    * their size, or a non-finite stamp: those are ignored (an empty result, state unchanged).
    * A stamp earlier than the previous one drops every track first (TrackerResult::reset).
-   * A track lost (not seen for lost_after seconds) is listed once in TrackerResult::lost.
+   * A track lost (not seen for lost_after seconds) is listed once in TrackerResult::lost (again
+   * when a person re-identified under that id is lost once more).
    * TrackedPerson::position is this frame's measured centroid; velocity comes from the
    * constant-velocity filter.
    */

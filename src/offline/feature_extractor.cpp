@@ -4,7 +4,7 @@
 #include <action_flow/track_table.h>
 
 #include <cmath>
-#include <map>
+#include <utility>
 #include <memory>
 #include <stdexcept>
 
@@ -21,14 +21,15 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
   PeopleTracker tracker(tracker_params);
   // Per track id: one pipeline for all variants (they share the flow's matching), and how many
   // frames the track was seen in. Tracks end by the nodelets' rules (TrackTable); the ended ones
-  // are kept for choosing the sample's person, but for those a reset drops.
+  // are kept for choosing the sample's person, but for those a reset drops. A person re-identified
+  // after their track ended comes back under its id as a new track (TrackerParams::reid_after).
   struct Track
   {
     std::unique_ptr<PersonPipeline> pipeline;
     int seen = 0;
   };
   TrackTable<Track> live(variants.front().flow.max_gap);
-  std::map<std::uint32_t, Track> tracks;
+  std::vector<std::pair<std::uint32_t, Track>> tracks;
   // all_tracks: every descriptor as it comes, per variant (a reset does not take them back).
   std::vector<std::vector<Eigen::VectorXf>> rows(variants.size());
   std::vector<std::vector<double>> row_stamps(variants.size());
@@ -43,7 +44,7 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
       tracks.clear();
     else
       for (auto& ended : frame.ended)
-        tracks[ended.first] = std::move(ended.second);
+        tracks.push_back(std::move(ended));
     for (const auto& person : result.people)
     {
       Track& t = live.at(person.id, [&] { return Track{ std::make_unique<PersonPipeline>(variants), 0 }; });
@@ -60,7 +61,7 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
   }
 
   for (auto& ended : live.endAll())
-    tracks[ended.first] = std::move(ended.second);
+    tracks.push_back(std::move(ended));
 
   std::vector<SampleFrames> out(variants.size());
   if (all_tracks)
@@ -76,10 +77,11 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
     return out;
   }
 
-  const Track* best = nullptr;
-  for (const auto& kv : tracks)
-    if (!best || kv.second.seen > best->seen)
-      best = &kv.second;
+  const Track* best = nullptr;  // the longest; of equal ones the lowest id, the first to end
+  std::uint32_t best_id = 0;
+  for (const auto& [id, t] : tracks)
+    if (!best || t.seen > best->seen || (t.seen == best->seen && id < best_id))
+      best = &t, best_id = id;
   if (!best)
     return out;
   for (std::size_t v = 0; v < variants.size(); ++v)

@@ -194,7 +194,8 @@ std::vector<PredictedSegment> runPolicy(const std::shared_ptr<const ActionModel>
     }
   };
   // Every track as the live pipeline would see it: a track not seen for more than a second has
-  // ended (the tracker's own patience is shorter).
+  // ended (the tracker's own patience is shorter), also when a person re-identified under its id
+  // comes back later (TrackerParams::reid_after): they start a new sequence.
   std::map<std::uint32_t, double> last_seen;
   for (Eigen::Index r = 0; r < frames.descriptors.rows(); ++r)
   {
@@ -202,7 +203,7 @@ std::vector<PredictedSegment> runPolicy(const std::shared_ptr<const ActionModel>
     const double stamp = frames.stamps[i];
     const std::uint32_t track = frames.tracks.empty() ? 1u : frames.tracks[i];
     for (auto it = last_seen.begin(); it != last_seen.end();)
-      if (it->first != track && stamp - it->second > 1.0)
+      if (stamp - it->second > 1.0)
       {
         take(policy.end(it->first), stamp);
         it = last_seen.erase(it);

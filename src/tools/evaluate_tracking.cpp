@@ -70,11 +70,11 @@ struct SceneResult
   std::string csv;
 };
 
-SceneResult runScene(const synth::SampleSpec& spec, float gate)
+SceneResult runScene(const synth::SampleSpec& spec, float gate, const TrackerParams& params)
 {
   const auto start = std::chrono::steady_clock::now();
   const synth::CrowdRenderer crowd(spec);
-  PeopleTracker tracker;  // the default parameters, as train, evaluate and the nodelet's defaults
+  PeopleTracker tracker(params);  // the default parameters unless --config, as train, evaluate and the nodelet
   const Eigen::Isometry3f world_from_optical = crowd.camera().worldFromOptical();
   std::vector<TrackingFrame> frames(size_t(crowd.frames()));
   SceneResult out;
@@ -163,7 +163,8 @@ std::vector<int> peopleList(const std::string& text)
 }
 
 /** Runs the scenes on @p jobs threads, printing a line per scene done. */
-std::vector<SceneResult> runAll(const std::vector<synth::SampleSpec>& specs, float gate, int jobs)
+std::vector<SceneResult> runAll(const std::vector<synth::SampleSpec>& specs, float gate, const TrackerParams& params,
+                                int jobs)
 {
   std::vector<SceneResult> results(specs.size());
   std::atomic<size_t> next{ 0 };
@@ -176,7 +177,7 @@ std::vector<SceneResult> runAll(const std::vector<synth::SampleSpec>& specs, flo
     {
       try
       {
-        results[k] = runScene(specs[k], gate);
+        results[k] = runScene(specs[k], gate, params);
       }
       catch (const std::exception& e)
       {
@@ -201,7 +202,7 @@ std::vector<SceneResult> runAll(const std::vector<synth::SampleSpec>& specs, flo
 
 /** Writes report.json and the tracks' CSVs into @p out; prints the figures per people count. */
 void writeReport(const std::vector<SceneResult>& results, const std::string& out, float gate, double seconds,
-                 std::uint64_t seed)
+                 std::uint64_t seed, const std::string& config)
 {
   fs::create_directories(fs::path(out) / "tracks");
   json report = { { "protocol", "tracking" },
@@ -211,7 +212,8 @@ void writeReport(const std::vector<SceneResult>& results, const std::string& out
                              "one-to-one pairing of whole trajectories" },
                   { "counted", "a person counts where their head is seen and at least 0.12 m^2 of them return depth; "
                                "tracks on people who do not count are neither matches nor false positives" },
-                  { "tracker", "PeopleTracker with its default parameters (TrackerParams())" },
+                  { "tracker", config.empty() ? "PeopleTracker with its default parameters (TrackerParams())"
+                                              : "PeopleTracker with the parameters of " + config },
                   { "gate_m", gate }, { "seconds", seconds }, { "seed", seed } };
   std::map<int, TrackingScores> by_people;
   TrackingScores total;
@@ -246,7 +248,9 @@ int run(int argc, char** argv)
       .value("jobs", "N", "scenes in parallel (default 2)")
       .value("out", "DIR", "report.json, tracks/<scene>.csv and, unless --no-plot, tracks/<scene>.png "
                            "(default tracking_results)")
-      .flag("no-plot", "no pictures (scripts/plot_tracks.py)");
+      .flag("no-plot", "no pictures (scripts/plot_tracks.py)")
+      .value("config", "FILE[,FILE...]", "the tracker's parameters from yaml files as the nodelets load them "
+                                         "(e.g. config/tracker.yaml; default: the declared defaults)");
   const tools::Args args(argc, argv, o);
   if (args.has("help"))
     return o.printHelp();
@@ -259,6 +263,8 @@ int run(int argc, char** argv)
   if (!(gate > 0.0f && gate <= 5.0f))
     throw tools::UsageError("--gate must be in (0, 5] metres");
   const std::string out = args.get("out", "tracking_results");
+  const TrackerParams params = tools::configParams(args).tracker;
+  PeopleTracker check(params);  // bad parameters: one line before any rendering
   std::vector<synth::SampleSpec> specs;
   for (int n : people)
     for (synth::SampleSpec s : synth::crowdSamples(n, scenes, seconds, seed))
@@ -267,9 +273,9 @@ int run(int argc, char** argv)
       specs.push_back(s);
     }
   std::fprintf(stderr, "evaluate_tracking: %zu scenes, gate %.2f m on the ground plane\n", specs.size(), gate);
-  const std::vector<SceneResult> results = runAll(specs, gate, tools::jobsOption(args));
+  const std::vector<SceneResult> results = runAll(specs, gate, params, tools::jobsOption(args));
 
-  writeReport(results, out, gate, seconds, seed);
+  writeReport(results, out, gate, seconds, seed, args.get("config"));
   if (!args.has("no-plot"))
   {
     try

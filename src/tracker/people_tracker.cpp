@@ -1,8 +1,10 @@
 #include <action_flow/facing.h>
 #include <action_flow/people_tracker.h>
+#include "tracker_appearance.h"
 #include "tracker_assignment.h"
 #include "tracker_detector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -12,10 +14,15 @@ namespace
 {
 struct Track
 {
+  explicit Track(const ConstantVelocityFilter& f) : filter(f) {}
   ConstantVelocityFilter filter;
   std::uint32_t id = 0;  // 0 until confirmed
   int hits = 1;
   double last_seen = 0.0;
+  Eigen::Vector3f last_position = Eigen::Vector3f::Zero();  // the centroid when last seen
+  Appearance appearance;                                     // while confirmed
+  bool fresh = false;     // confirmed in this frame: may be a lost person coming back (reid_after)
+  bool merged = false;    // continued by a fresh track that looked like it: dropped, not lost
   // align_to_facing: the smoothed facing as (cos, sin) of twice its angle (a turn by 180 degrees is
   // the same ellipse), zero until the first estimate.
   Eigen::Vector2f facing2 = Eigen::Vector2f::Zero();
@@ -39,6 +46,9 @@ float smoothFacing(Track& t, float raw, double stamp, double tau)
     return std::numeric_limits<float>::quiet_NaN();
   return 0.5f * std::atan2(t.facing2.y(), t.facing2.x());
 }
+
+// The fastest a person is taken to move while unseen (m/s, a brisk walk), for re-identification.
+constexpr float kReidSpeed = 2.0f;
 
 // How fast an unseen track's gate widens (m/s), up to twice the gate: where a hidden person comes
 // back out is less certain the longer they were hidden.
@@ -97,6 +107,15 @@ struct PeopleTracker::Impl
   PeopleDetector detector;
   std::vector<Track> tracks;
   std::uint32_t next_id = 1;
+  // The confirmed tracks lost within reid_after, for giving their ids back.
+  struct Gone
+  {
+    std::uint32_t id;
+    Appearance appearance;
+    Eigen::Vector3f position;
+    double last_seen;
+  };
+  std::vector<Gone> gone;
   bool has_stamp = false;
   double last_stamp = 0.0;
 
@@ -114,6 +133,11 @@ struct PeopleTracker::Impl
   bool trackedPerson(Track& t, const PersonDetection& d, const DetectionResult& det, const Cloud& cloud,
                      double stamp, const Eigen::Vector3f& camera_origin, const TrackerParams& params,
                      TrackedPerson& p);
+  /// Track @p i, confirmed in this frame with its first appearance in @p look, takes the id of the
+  /// lost or unseen confirmed track that looks most like it, if any is close enough in height,
+  /// colours and place (TrackerParams::reid_after); @p seen as updateTracks returns it.
+  void reidentify(std::size_t i, const Appearance& look, const std::vector<int>& seen, double stamp,
+                  const Eigen::Vector3f& up, const TrackerParams& params);
 };
 
 PeopleTracker::PeopleTracker(const TrackerParams& params) : params_(params), impl_(std::make_unique<Impl>(params))
@@ -125,6 +149,7 @@ PeopleTracker::~PeopleTracker() = default;
 void PeopleTracker::reset()
 {
   impl_->tracks.clear();
+  impl_->gone.clear();
   impl_->detector.reset();
   impl_->has_stamp = false;
 }
@@ -143,6 +168,7 @@ double PeopleTracker::Impl::advanceClock(double stamp, TrackerResult& result)
       if (t.id != 0)
         result.lost.push_back(t.id);
     tracks.clear();
+    gone.clear();
   }
   const double dt = has_stamp && !result.reset ? stamp - last_stamp : 0.0;
   has_stamp = true;
@@ -174,8 +200,12 @@ std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetec
       t.filter.correct(people[match[i]].centroid);
       t.hits += 1;
       t.last_seen = stamp;
+      t.last_position = people[match[i]].centroid;
       if (t.id == 0 && t.hits >= params.confirm_after)
+      {
         t.id = next_id++;
+        t.fresh = true;
+      }
       kept.push_back(t);
       kept_detection.push_back(match[i]);
     }
@@ -185,7 +215,11 @@ std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetec
     }
     else if (stamp - t.last_seen > params.lost_after &&
              (stamp - t.last_seen > params.hidden_lost_after || !hiddenBySomeone(t.filter.position())))
+    {
       lost.push_back(t.id);
+      if (params.reid_after > 0.0 && t.appearance.frames() > 0)
+        gone.push_back({ t.id, t.appearance, t.last_position, t.last_seen });
+    }
     else
     {
       kept.push_back(t);
@@ -195,14 +229,67 @@ std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetec
   for (std::size_t j = 0; j < people.size(); ++j)
     if (!used[j] && !people[j].weak)
     {
-      Track t{ConstantVelocityFilter(people[j].centroid), 0, 1, stamp};
+      Track t(ConstantVelocityFilter(people[j].centroid));
+      t.last_seen = stamp;
+      t.last_position = people[j].centroid;
       if (params.confirm_after <= 1)
+      {
         t.id = next_id++;
+        t.fresh = true;
+      }
       kept.push_back(t);
       kept_detection.push_back(static_cast<int>(j));
     }
   tracks.swap(kept);
+  gone.erase(std::remove_if(gone.begin(), gone.end(),
+                            [&](const Gone& g) { return stamp - g.last_seen > params.reid_after; }),
+             gone.end());
   return kept_detection;
+}
+
+void PeopleTracker::Impl::reidentify(std::size_t i, const Appearance& look, const std::vector<int>& seen,
+                                     double stamp, const Eigen::Vector3f& up, const TrackerParams& params)
+{
+  Track& t = tracks[i];
+  // Whether a person last seen at @p where at @p when could be this one; the colour distance if so.
+  const auto likeness = [&](const Appearance& a, const Eigen::Vector3f& where, double when) {
+    const Eigen::Vector3f d = t.last_position - where;
+    const float reach = params.gate + kReidSpeed * static_cast<float>(stamp - when);
+    const float colours = a.colourDistance(look);
+    const bool close = (d - d.dot(up) * up).norm() <= reach &&
+                       std::abs(a.height() - look.height()) <= params.reid_max_height_difference &&
+                       colours <= params.reid_max_colour_distance;
+    return close ? colours : 2.0f;
+  };
+  float best = 1.5f;
+  int best_gone = -1, best_track = -1;
+  for (std::size_t g = 0; g < gone.size(); ++g)
+  {
+    const float c = likeness(gone[g].appearance, gone[g].position, gone[g].last_seen);
+    if (c < best)
+      best = c, best_gone = static_cast<int>(g), best_track = -1;
+  }
+  for (std::size_t j = 0; j < tracks.size(); ++j)
+  {
+    const Track& o = tracks[j];
+    if (j == i || o.id == 0 || o.fresh || o.merged || seen[j] >= 0 || o.appearance.frames() == 0)
+      continue;
+    const float c = likeness(o.appearance, o.last_position, o.last_seen);
+    if (c < best)
+      best = c, best_track = static_cast<int>(j), best_gone = -1;
+  }
+  if (best_gone >= 0)
+  {
+    t.id = gone[best_gone].id;
+    t.appearance = gone[best_gone].appearance;
+    gone.erase(gone.begin() + best_gone);
+  }
+  else if (best_track >= 0)
+  {
+    t.id = tracks[best_track].id;
+    t.appearance = tracks[best_track].appearance;
+    tracks[best_track].merged = true;
+  }
 }
 
 bool PeopleTracker::Impl::trackedPerson(Track& t, const PersonDetection& d, const DetectionResult& det,
@@ -260,10 +347,23 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
   for (std::size_t i = 0; i < s.tracks.size(); ++i)
   {
     TrackedPerson p;
-    if (s.tracks[i].id != 0 && seen[i] >= 0 &&
-        s.trackedPerson(s.tracks[i], det.people[seen[i]], det, cloud, stamp, camera_origin, params_, p))
-      result.people.push_back(std::move(p));
+    Track& t = s.tracks[i];
+    if (t.id == 0 || seen[i] < 0 || !s.trackedPerson(t, det.people[seen[i]], det, cloud, stamp, camera_origin, params_, p))
+      continue;
+    if (t.fresh && params_.reid_after > 0.0)
+    {
+      Appearance look;
+      look.add(*p.cloud, p.height);
+      s.reidentify(i, look, seen, stamp, up, params_);
+      p.id = t.id;
+    }
+    t.fresh = false;
+    t.appearance.add(*p.cloud, p.height);
+    result.people.push_back(std::move(p));
   }
+  // Tracks continued under a fresh track's id end here, silently: their id lives on.
+  s.tracks.erase(std::remove_if(s.tracks.begin(), s.tracks.end(), [](const Track& t) { return t.merged; }),
+                 s.tracks.end());
   return result;
 }
 

@@ -17,11 +17,13 @@ using test::SceneCamera;
 
 namespace
 {
-/** A straight walk at constant velocity: start (feet, world: x right, y ahead) and velocity (m/s). */
+/** A straight walk at constant velocity: start (feet, world: x right, y ahead) and velocity (m/s);
+ *  out of the scene (neither rendered nor counted) from absent_from to absent_to (s). */
 struct Walker
 {
   Figure figure;
   Eigen::Vector2f velocity;
+  double absent_from = 0.0, absent_to = 0.0;
 };
 
 struct CrossingResult
@@ -45,6 +47,8 @@ CrossingResult runCrossing(const std::vector<Walker>& walkers, double seconds,
     TrackingFrame f;
     for (std::size_t i = 0; i < walkers.size(); ++i)
     {
+      if (k * dt >= walkers[i].absent_from && k * dt < walkers[i].absent_to)
+        continue;
       Figure fig = walkers[i].figure;
       fig.feet += float(k * dt) * walkers[i].velocity;
       people.push_back(fig);
@@ -54,7 +58,7 @@ CrossingResult runCrossing(const std::vector<Walker>& walkers, double seconds,
       f.truth.push_back(t);
     }
     const TrackerResult r = tracker.update(cam.render(people, true, {}, 0.004f, unsigned(k)), k * dt);
-    out.occluded_frames += r.people.size() < walkers.size() ? 1 : 0;
+    out.occluded_frames += r.people.size() < people.size() ? 1 : 0;
     for (const TrackedPerson& p : r.people)
     {
       TrackPoint q;
@@ -118,11 +122,51 @@ TEST(TrackerCrossing, APersonHiddenBehindAnotherForASecondKeepsTheirId)
   EXPECT_EQ(r.scores.predicted_ids, 2u) << describe(r.scores);
   EXPECT_EQ(r.scores.false_positives, 0u) << describe(r.scores);
 
-  // Without the re-identification (hidden_lost_after = lost_after) B gets a new id: what the test sees.
+  // Without keeping hidden tracks (hidden_lost_after = lost_after) and without re-identifying lost
+  // people by their look (reid_after = 0, which on its own gives B their id back too) B gets a new
+  // id: what the test sees.
   TrackerParams p;
   p.hidden_lost_after = p.lost_after;
+  p.reid_after = 0.0;
   const CrossingResult plain = runCrossing(walkers, 5.6, p);
   EXPECT_GE(plain.scores.id_switches, 1u) << describe(plain.scores);
+}
+
+TEST(TrackerReidentification, APersonWhoLeavesAndComesBackGetsTheirIdBack)
+{
+  // A walks slowly across at 3 m and is gone for 3 s (longer than hidden_lost_after: the track is
+  // lost), then back 0.9 m further on: the same height and clothes give the same id.
+  const std::vector<Walker> walkers = { { Figure{ { -0.5f, 3.0f }, 1.75f }, Eigen::Vector2f(0.3f, 0.0f), 1.5, 4.5 } };
+  const CrossingResult r = runCrossing(walkers, 6.0);
+  EXPECT_EQ(r.scores.predicted_ids, 1u) << describe(r.scores);
+  EXPECT_EQ(r.scores.id_switches, 0u) << describe(r.scores);
+  EXPECT_GE(r.scores.matches, 80u) << "A is tracked before and after (90 frames): " << describe(r.scores);
+
+  // Without re-identification A comes back under a new id: what the check above sees.
+  TrackerParams p;
+  p.reid_after = 0.0;
+  const CrossingResult plain = runCrossing(walkers, 6.0, p);
+  EXPECT_EQ(plain.scores.predicted_ids, 2u) << describe(plain.scores);
+  EXPECT_EQ(plain.scores.id_switches, 1u) << describe(plain.scores);
+}
+
+TEST(TrackerReidentification, SomeoneElseWhereAPersonLeftGetsANewId)
+{
+  // A leaves at 1.5 s; at 3 s B enters where A was: B in other clothes, then C in A's clothes but
+  // 0.35 m shorter. Neither takes A's id.
+  const Figure a{ { 0.0f, 3.0f }, 1.75f };
+  Figure b = a, c = a;
+  b.r = 40, b.g = 200, b.b = 40;
+  c.height = 1.40f;
+  for (const Figure& other : { b, c })
+  {
+    const std::vector<Walker> walkers = { { a, Eigen::Vector2f(0.0f, 0.0f), 1.5, 99.0 },
+                                          { other, Eigen::Vector2f(0.0f, 0.0f), 0.0, 3.0 } };
+    const CrossingResult r = runCrossing(walkers, 4.5);
+    EXPECT_EQ(r.scores.predicted_ids, 2u) << describe(r.scores);
+    EXPECT_EQ(r.scores.id_switches, 0u) << describe(r.scores);
+    EXPECT_GE(r.scores.matches, 70u) << describe(r.scores);
+  }
 }
 
 TEST(TrackerCrossing, TheScoringSeesASwapOfIds)

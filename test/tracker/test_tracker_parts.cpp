@@ -3,6 +3,7 @@
 #include "../core/scene.h"
 
 #include <action_flow/people_tracker.h>
+#include "../../src/tracker/tracker_appearance.h"
 #include "../../src/tracker/tracker_assignment.h"
 #include "../../src/tracker/tracker_clustering.h"
 #include "../../src/tracker/tracker_detector.h"
@@ -180,6 +181,70 @@ TEST(ConstantVelocityFilter, LearnsAConstantVelocityAndPredicts)
   f.predict(0.0);
   f.predict(-1.0);  // no effect
   EXPECT_LT((f.position() - (Eigen::Vector3f(0, 0, 3) + 4.5f * v)).norm(), 0.02f);
+}
+
+// ---- appearance (re-identification) ------------------------------------------------------
+
+namespace
+{
+Cloud colouredCloud(std::uint8_t r, std::uint8_t g, std::uint8_t b, int n, float x = 0.0f)
+{
+  Cloud c;
+  for (int i = 0; i < n; ++i)
+  {
+    PointT p;
+    p.x = x + 0.01f * i, p.y = 0.0f, p.z = 3.0f;
+    p.r = r, p.g = g, p.b = b;
+    c.push_back(p);
+  }
+  return c;
+}
+}  // namespace
+
+TEST(Appearance, HistogramBinsChromaticityAndBrightnessByHand)
+{
+  // (200, 60, 60): r/sum = 0.625 -> bin 3 of 6, g/sum = 0.1875 -> bin 1; brightness 320/768 = 0.42
+  // -> bin 1 of 4. Each half weighs 0.5.
+  Cloud c = colouredCloud(200, 60, 60, 10);
+  PointT nan;
+  nan.x = nan.y = nan.z = std::numeric_limits<float>::quiet_NaN();
+  c.push_back(nan);  // not counted
+  const Appearance::Histogram h = Appearance::histogram(c);
+  EXPECT_FLOAT_EQ(h.sum(), 1.0f);
+  EXPECT_FLOAT_EQ(h(3 * 6 + 1), 0.5f);
+  EXPECT_FLOAT_EQ(h(36 + 1), 0.5f);
+  // Black points (sum below 30) count in brightness only: bin 0.
+  const Appearance::Histogram black = Appearance::histogram(colouredCloud(5, 5, 5, 4));
+  EXPECT_FLOAT_EQ(black(36), 1.0f);
+  EXPECT_FLOAT_EQ(black.head<36>().sum(), 0.0f);
+  // Half the points red, half green: each chroma bin 0.25.
+  Cloud mixed = colouredCloud(200, 60, 60, 10);
+  mixed += colouredCloud(60, 200, 60, 10);
+  const Appearance::Histogram m = Appearance::histogram(mixed);
+  EXPECT_FLOAT_EQ(m(3 * 6 + 1), 0.25f);
+  EXPECT_FLOAT_EQ(m(1 * 6 + 3), 0.25f);
+  EXPECT_FLOAT_EQ(Appearance::histogram(Cloud()).sum(), 0.0f);
+}
+
+TEST(Appearance, ColourDistanceIsHellinger)
+{
+  Appearance red, red2, green, half;
+  red.add(colouredCloud(200, 60, 60, 10), 1.7f);
+  red2.add(colouredCloud(200, 60, 60, 30, 1.0f), 1.8f);
+  green.add(colouredCloud(60, 200, 60, 10), 1.7f);
+  EXPECT_NEAR(red.colourDistance(red2), 0.0f, 1e-4f) << "the same colours, wherever and however many";
+  // Same brightness bin, disjoint chroma bins: BC = 0.5, distance sqrt(0.5).
+  EXPECT_NEAR(red.colourDistance(green), std::sqrt(0.5f), 1e-5f);
+  EXPECT_NEAR(red.colourDistance(green), green.colourDistance(red), 1e-6f);
+  EXPECT_FLOAT_EQ(red.colourDistance(Appearance()), 1.0f) << "never seen";
+  // A running mean: red then green gives half of each, height the mean.
+  half.add(colouredCloud(200, 60, 60, 10), 1.6f);
+  half.add(colouredCloud(60, 200, 60, 10), 1.8f);
+  EXPECT_EQ(half.frames(), 2);
+  EXPECT_NEAR(half.height(), 1.7f, 1e-6f);
+  EXPECT_NEAR(half.colours()(3 * 6 + 1), 0.25f, 1e-6f);
+  // BC(red, half) = 0.5 (brightness) + sqrt(0.5 * 0.25) = 0.5 + 0.3536.
+  EXPECT_NEAR(red.colourDistance(half), std::sqrt(1.0f - 0.5f - std::sqrt(0.125f)), 1e-5f);
 }
 
 // ---- ground --------------------------------------------------------------------------------
@@ -384,6 +449,10 @@ TEST(TrackerBadInput, BadParametersThrow)
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.gate = 0; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.lost_after = -1; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.confirm_after = 0; })), std::invalid_argument);
+  EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.reid_after = -1; })), std::invalid_argument);
+  EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.reid_max_colour_distance = 1.5f; })), std::invalid_argument);
+  EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.reid_max_height_difference = std::nanf(""); })),
+               std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.up_hint = Eigen::Vector3f::Zero(); })),
                std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.ground_max_angle = 2.0f; })), std::invalid_argument);
