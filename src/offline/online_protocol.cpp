@@ -227,7 +227,9 @@ std::vector<PolicyParams> policyCandidates(Recognizer recognizer)
   {
     for (double on : { 0.5, 0.8, 1.2 })
       for (double rest : { 0.5, 1.0 })
-        for (double confidence : { 0.0, 0.2, 0.3 })
+        // The linear classifier's confidence is calibrated (a probability of being right on new
+        // people), so the rejection thresholds run up to 0.7.
+        for (double confidence : { 0.0, 0.2, 0.3, 0.5, 0.7 })
           for (int stable : { 0, 2, 3 })  // 0: no early label, only when the segment ends
           {
             PolicyParams p = base;
@@ -244,7 +246,7 @@ std::vector<PolicyParams> policyCandidates(Recognizer recognizer)
   // candidate for posture_flow too.
   {
     for (double window : { 2.0, 3.0 })
-      for (double confidence : { 0.0, 0.05, 0.1, 0.2, 0.3 })
+      for (double confidence : { 0.0, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7 })
         for (int stable : { 2, 3, 5 })
         {
           PolicyParams p = base;
