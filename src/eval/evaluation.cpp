@@ -402,12 +402,16 @@ std::vector<HeldOutAnswers> foldAnswers(const Eigen::MatrixXf& x, const Eigen::M
     const std::vector<std::string>& known = classifier.classes();
     for (Eigen::Index i : test)
     {
-      a.right += classifier.classify(x.row(i).transpose()).label == labels[i];
+      // The label classify() gives: every probability it offers is monotonic in the score.
+      Eigen::VectorXf scores = classifier.scores(x.row(i).transpose());
+      Eigen::Index best = 0;
+      scores.maxCoeff(&best);
+      a.right += known[static_cast<std::size_t>(best)] == labels[i];
       ++a.total;
       const auto at = std::lower_bound(known.begin(), known.end(), labels[i]);
       if (known.size() == all_labels && at != known.end() && *at == labels[i])
       {
-        a.scores.push_back(classifier.scores(x.row(i).transpose()));
+        a.scores.push_back(std::move(scores));
         a.truth.push_back(static_cast<int>(at - known.begin()));
       }
     }

@@ -133,6 +133,12 @@ struct PeopleTracker::Impl
   bool trackedPerson(Track& t, const PersonDetection& d, const DetectionResult& det, const Cloud& cloud,
                      double stamp, const Eigen::Vector3f& camera_origin, const TrackerParams& params,
                      TrackedPerson& p);
+  /// A tentative track becomes a person: a new id, fresh (re-identification may still give it an old one).
+  void confirm(Track& t)
+  {
+    t.id = next_id++;
+    t.fresh = true;
+  }
   /// Track @p i, confirmed in this frame with its first appearance in @p look, takes the id of the
   /// lost or unseen confirmed track that looks most like it, if any is close enough in height,
   /// colours and place (TrackerParams::reid_after); @p seen as updateTracks returns it.
@@ -202,10 +208,7 @@ std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetec
       t.last_seen = stamp;
       t.last_position = people[match[i]].centroid;
       if (t.id == 0 && t.hits >= params.confirm_after)
-      {
-        t.id = next_id++;
-        t.fresh = true;
-      }
+        confirm(t);
       kept.push_back(t);
       kept_detection.push_back(match[i]);
     }
@@ -233,10 +236,7 @@ std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetec
       t.last_seen = stamp;
       t.last_position = people[j].centroid;
       if (params.confirm_after <= 1)
-      {
-        t.id = next_id++;
-        t.fresh = true;
-      }
+        confirm(t);
       kept.push_back(t);
       kept_detection.push_back(static_cast<int>(j));
     }
@@ -350,15 +350,19 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
     Track& t = s.tracks[i];
     if (t.id == 0 || seen[i] < 0 || !s.trackedPerson(t, det.people[seen[i]], det, cloud, stamp, camera_origin, params_, p))
       continue;
-    if (t.fresh && params_.reid_after > 0.0)
+    if (params_.reid_after > 0.0)  // the appearance serves re-identification only
     {
-      Appearance look;
-      look.add(*p.cloud, p.height);
-      s.reidentify(i, look, seen, stamp, up, params_);
-      p.id = t.id;
+      const Appearance::Histogram colours = Appearance::histogram(*p.cloud);
+      if (t.fresh)
+      {
+        Appearance look;
+        look.add(colours, p.height);
+        s.reidentify(i, look, seen, stamp, up, params_);
+        p.id = t.id;
+      }
+      t.appearance.add(colours, p.height);
     }
     t.fresh = false;
-    t.appearance.add(*p.cloud, p.height);
     result.people.push_back(std::move(p));
   }
   // Tracks continued under a fresh track's id end here, silently: their id lives on.

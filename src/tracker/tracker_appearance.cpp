@@ -27,9 +27,10 @@ Appearance::Histogram Appearance::histogram(const Cloud& cloud)
   return out;
 }
 
-void Appearance::add(const Cloud& cloud, float height)
+void Appearance::add(const Cloud& cloud, float height) { add(histogram(cloud), height); }
+
+void Appearance::add(const Histogram& h, float height)
 {
-  const Histogram h = histogram(cloud);
   if (h.sum() <= 0.0f)
     return;
   ++frames_;

@@ -32,6 +32,8 @@ public:
   /** @brief Adds one frame: a running mean of the first 10 frames, then an exponential mean
    *         (weight 0.1) that follows a person turning or taking off a jacket. */
   void add(const Cloud& cloud, float height);
+  /** @brief The same with the frame's histogram (histogram()) already computed. */
+  void add(const Histogram& colours, float height);
 
   /** @brief The Hellinger distance of the colour histograms: 0 for the same, 1 for disjoint ones
    *         (and 1 when either has not been seen). */
