@@ -40,6 +40,12 @@
 
 namespace action_flow
 {
+/**
+ * @brief The label of the class an online model learns from transitions and idle periods of
+ *        training streams (train --no-action-windows; no_action.h in the evaluation library).
+ */
+inline constexpr const char* kNoActionLabel = "no_action";
+
 /** @brief The policy's parameters (the classifier nodelet reads them from its private namespace). */
 struct PolicyParams
 {
@@ -54,7 +60,7 @@ struct PolicyParams
   int stable_count = 3;           ///< online: equal classifications in a row before a label is published
   double min_confidence = 0.0;    ///< online: a label less sure than this is not published (rejection)
   /** Online: labels that mean "no action" and are never published (idle periods look like them). */
-  std::vector<std::string> idle_labels = { "standing" };
+  std::vector<std::string> idle_labels = { "standing", kNoActionLabel };
   /** Online: use motion segments when the model's descriptors carry motion (else the sliding window). */
   bool motion_segments = true;
   double motion_on = 0.5;         ///< 1/s: smoothed shape change rate that opens a segment

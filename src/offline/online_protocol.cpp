@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "plot_script.h"
 #include "extraction.h"
+#include "../eval/no_action.h"
 
 #include <action_flow/files.h>
 #include <action_flow/synth/synth.h>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -86,6 +88,8 @@ struct OnlineSet
   std::vector<std::string> people;   // their people, sorted
   std::set<std::string> tuners;      // training people whose streams choose the thresholds
   std::vector<synth::SampleSpec> tuning, test;
+  /** One stream of each training person who does not tune: with the tuning streams, the no-action windows' sources. */
+  std::vector<synth::SampleSpec> no_action;
   std::vector<std::string> test_people;
   std::string dataset;               // --synth: ias or msr
 };
@@ -120,9 +124,9 @@ OnlineSet iasSet(const Args& args, const std::vector<SampleRef>& samples, int st
   const int stream_people = static_cast<int>(args.integer("stream-people", 6, 1, 50));
   if (last + stream_people > 99)
     throw UsageError("--stream-people: new actors would go past p99");
-  for (const auto& p : out.tuners)
+  for (const auto& p : out.people)
     for (const auto& s : synth::streamSamples(personNumber(p), 1, 1, actions, seed))
-      out.tuning.push_back(s);
+      (out.tuners.count(p) ? out.tuning : out.no_action).push_back(s);
   out.test = synth::streamSamples(last + 1, stream_people, streams, actions, seed);
   for (const auto& s : out.test)
     out.test_people.push_back(s.person);
@@ -166,6 +170,11 @@ OnlineSet msrSet(const Args& args, const std::vector<SampleRef>& samples, int st
   const std::string folder = args.get("msr-dir");
   out.tuning = synth::msrStreamSamples(folder, std::vector<std::string>(out.tuners.begin(), out.tuners.end()), 1,
                                        actions, seed, pool);
+  std::vector<std::string> others;
+  for (const auto& p : out.people)
+    if (!out.tuners.count(p))
+      others.push_back(p);
+  out.no_action = synth::msrStreamSamples(folder, others, 1, actions, seed, pool);
   out.test = synth::msrStreamSamples(folder, out.test_people, streams, actions, seed, pool);
   return out;
 }
@@ -325,7 +334,8 @@ OnlineSet onlineSet(const Args& args, const std::vector<SampleRef>& samples, int
 struct OnlineStreams
 {
   std::vector<synth::SampleSpec> specs;
-  std::size_t tuning = 0;  // the first ones, of the tuning people
+  std::size_t tuning = 0;     // the first ones, of the tuning people
+  std::size_t no_action = 0;  // the next ones, of the other training people
   std::vector<SampleRef> refs;
 };
 
@@ -334,6 +344,8 @@ OnlineStreams renderStreams(const OnlineSet& set, int max_frames)
   OnlineStreams out;
   out.specs = set.tuning;
   out.tuning = out.specs.size();
+  out.specs.insert(out.specs.end(), set.no_action.begin(), set.no_action.end());
+  out.no_action = set.no_action.size();
   out.specs.insert(out.specs.end(), set.test.begin(), set.test.end());
   for (auto& s : out.specs)
   {
@@ -354,15 +366,28 @@ std::vector<RecognitionParams> onlineExtractions(const Args& args)
   return { sum, pf };
 }
 
-/** --variants, of posture_flow and sumflow. */
+/** --variants, of posture_flow, posture_flow_closed (no no-action class) and sumflow. */
 std::vector<std::string> onlineVariants(const Args& args)
 {
-  const std::vector<std::string> variants = splitList(args.get("variants", "posture_flow,sumflow"));
+  const std::vector<std::string> variants =
+      splitList(args.get("variants", "posture_flow,posture_flow_closed,sumflow"));
   for (const auto& v : variants)
-    if (v != "posture_flow" && v != "sumflow")
-      throw UsageError("--protocol online runs the variants posture_flow and sumflow, not '" +
+    if (v != "posture_flow" && v != "posture_flow_closed" && v != "sumflow")
+      throw UsageError("--protocol online runs the variants posture_flow, posture_flow_closed and sumflow, not '" +
                        v + "'");
   return variants;
+}
+
+/**
+ * The no-action windows per training stream the variant may learn as the class no_action, chosen
+ * on the tuning streams: posture_flow chooses among these (0: closed set, the actions only); the
+ * others learn none (sumflow is the paper's recognizer, unchanged).
+ */
+std::vector<int> noActionCandidates(const std::string& variant)
+{
+  if (variant == "posture_flow")
+    return { 0, 6, 12 };
+  return { 0 };
 }
 
 /** What every variant of a run reads: the training samples, the streams and their descriptors. */
@@ -423,9 +448,38 @@ void printVariantScore(const std::string& v, const StreamScore& all)
 }
 
 /**
- * Variant @p v: the policy's thresholds chosen on the tuning streams with a model trained without
- * the tuning people, then the model of every training sample on the test streams; returns its
- * report entry and adds its test streams to @p timeline.
+ * Adds to @p labelled (and its index to @p rows) the no-action windows of @p streams, at most
+ * @p per_stream each, as samples of the stream's person; @p store keeps their frames.
+ */
+void addNoActionSamples(const std::vector<StreamCase>& streams, const std::vector<std::string>& persons,
+                        int per_stream, std::vector<LabelledSample>& labelled, std::vector<std::size_t>& rows,
+                        std::deque<SampleFrames>& store)
+{
+  NoActionWindows w;
+  w.per_stream = per_stream;
+  for (std::size_t i = 0; i < streams.size(); ++i)
+    for (SampleFrames& f : noActionWindows(streams[i].truth, *streams[i].frames, w))
+    {
+      store.push_back(std::move(f));
+      rows.push_back(labelled.size());
+      labelled.push_back({ persons[i], kNoActionLabel, &store.back() });
+    }
+}
+
+/** The persons of the streams [first, first + n) of the run. */
+std::vector<std::string> streamPersons(const OnlineStreams& streams, std::size_t first, std::size_t n)
+{
+  std::vector<std::string> out;
+  for (std::size_t i = first; i < first + n; ++i)
+    out.push_back(streams.specs[i].person);
+  return out;
+}
+
+/**
+ * Variant @p v: the policy's thresholds (and the no-action windows a stream gives, when the variant
+ * learns the class) chosen on the tuning streams with a model trained without the tuning people,
+ * then the model of every training person on the test streams; returns its report entry and adds
+ * its test streams to @p timeline.
  */
 json onlineVariant(const OnlineRun& run, const std::string& v, std::string& timeline)
 {
@@ -434,17 +488,47 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
   for (std::size_t i = 0; i < run.training.size(); ++i)
     labelled.push_back({ run.training[i].person, run.training[i].action, &run.train_frames[e][i] });
   const auto cases = streamCases(run.streams.specs, run.stream_frames[e]);
-  const auto first_test = cases.begin() + static_cast<long>(run.streams.tuning);
-  const std::vector<StreamCase> tuning(cases.begin(), first_test);
+  const auto first_source = cases.begin() + static_cast<long>(run.streams.tuning);
+  const auto first_test = first_source + static_cast<long>(run.streams.no_action);
+  const std::vector<StreamCase> tuning(cases.begin(), first_source);
+  const std::vector<StreamCase> sources(first_source, first_test);
   const std::vector<StreamCase> test(first_test, cases.end());
+  const std::vector<std::string> tuning_persons = streamPersons(run.streams, 0, run.streams.tuning);
+  const std::vector<std::string> source_persons =
+      streamPersons(run.streams, run.streams.tuning, run.streams.no_action);
 
   const RecognitionParams& params = run.extractions[e];
-  auto tuning_model =
-      std::make_shared<const ActionModel>(trainModel(labelled, run.inner_rows, params));
+  PolicyParams chosen;
   StreamScore tuning_score;
-  const PolicyParams chosen =
-      choosePolicy(tuning_model, tuning, policyCandidates(params.recognizer), &tuning_score);
-  auto model = std::make_shared<const ActionModel>(trainModel(labelled, run.all_rows, params));
+  int windows = 0;
+  json per_windows = json::array();
+  for (int candidate : noActionCandidates(v))
+  {
+    std::vector<LabelledSample> inner = labelled;
+    std::vector<std::size_t> rows = run.inner_rows;
+    std::deque<SampleFrames> store;
+    addNoActionSamples(sources, source_persons, candidate, inner, rows, store);
+    auto tuning_model = std::make_shared<const ActionModel>(trainModel(inner, rows, params));
+    StreamScore s;
+    const PolicyParams p = choosePolicy(tuning_model, tuning, policyCandidates(params.recognizer), &s);
+    per_windows.push_back({ { "no_action_windows", candidate }, { "samples", rows.size() - run.inner_rows.size() },
+                            { "policy", policyJson(p) }, { "tuning_score", scoreJson(s) } });
+    std::fprintf(stderr, "evaluate: %s with %d no-action windows a stream: tuning F1 %.2f, %.1f false labels/min in idle\n",
+                 v.c_str(), candidate, s.f1, s.idle_false_per_minute());
+    if (per_windows.size() == 1 || s.f1 > tuning_score.f1 + 1e-12 ||
+        (std::fabs(s.f1 - tuning_score.f1) <= 1e-12 &&
+         s.idle_false_per_minute() < tuning_score.idle_false_per_minute() - 1e-12))
+    {
+      chosen = p;
+      tuning_score = s;
+      windows = candidate;
+    }
+  }
+  std::vector<std::size_t> rows = run.all_rows;
+  std::deque<SampleFrames> store;
+  addNoActionSamples(sources, source_persons, windows, labelled, rows, store);
+  addNoActionSamples(tuning, tuning_persons, windows, labelled, rows, store);
+  auto model = std::make_shared<const ActionModel>(trainModel(labelled, rows, params));
 
   std::vector<StreamScore> scores;
   const json per_stream = testStreams(model, chosen, test, v, scores, timeline);
@@ -452,6 +536,9 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
   printVariantScore(v, all);
   return { { "variant", v },
            { "policy", policyJson(chosen) },
+           { "no_action_windows", windows },
+           { "no_action_samples", rows.size() - run.all_rows.size() },
+           { "no_action_candidates", per_windows },
            { "tuning_score", scoreJson(tuning_score) },
            { "test", scoreJson(all) },
            { "streams", per_stream } };
@@ -470,6 +557,46 @@ void writeOnlineReport(const Args& args, const std::string& dir, const json& rep
 }
 }  // namespace
 
+std::size_t appendNoActionStreams(const Args& args, const std::vector<SampleRef>& samples, int per_stream,
+                                  const RecognitionParams& params, std::vector<LabelledSample>& labelled,
+                                  std::vector<std::size_t>& rows, std::deque<SampleFrames>& store)
+{
+  const std::string dataset = args.get("synth");
+  if (dataset != "ias" && dataset != "msr")
+    throw UsageError("--no-action-windows renders streams of the training people: give --synth ias or --synth msr");
+  std::vector<std::string> persons, actions;
+  for (const auto& s : samples)
+  {
+    persons.push_back(s.person);
+    actions.push_back(s.action);
+  }
+  persons = uniqueSorted(persons);
+  actions = uniqueSorted(actions);
+  const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1000000000));
+  const int count = static_cast<int>(args.integer("stream-actions", 8, 2, 40));
+  std::vector<synth::SampleSpec> specs;
+  if (dataset == "ias")
+    for (const auto& p : persons)
+      for (const auto& s : synth::streamSamples(personNumber(p), 1, 1, count, seed))
+        specs.push_back(s);
+  else
+    specs = synth::msrStreamSamples(args.get("msr-dir"), persons, 1, count, seed,
+                                    actions.size() == synth::msrActions().size() ? std::vector<std::string>() : actions);
+  std::vector<SampleRef> refs;
+  for (const auto& s : specs)
+    refs.push_back(renderedSample(s));
+  std::fprintf(stderr, "train: %zu streams of the training people for no-action windows\n", refs.size());
+  const auto frames = extractAll(refs, { params }, trackerParams(args), cacheDir(args), jobsOption(args));
+  const auto cases = streamCases(specs, frames[0]);
+  std::vector<std::string> of;
+  for (const auto& s : specs)
+    of.push_back(s.person);
+  const std::size_t before = rows.size();
+  // The frames live in `frames`, which ends here: the windows copy what they take.
+  addNoActionSamples(cases, of, per_stream, labelled, rows, store);
+  return rows.size() - before;
+}
+
 int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, const std::string& dir)
 {
   int max_frames = 0;
@@ -482,10 +609,11 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, c
 
   std::fprintf(stderr,
                "evaluate: online protocol (%s): %zu training samples of %zu people; "
-               "thresholds chosen on %zu streams of %zu of them; "
+               "thresholds chosen on %zu streams of %zu of them; %zu streams of the others for no-action windows; "
                "tested on %zu streams of %zu new people\n",
-               set.dataset.c_str(), training.size(), set.people.size(), streams.tuning,
-               tuners.size(), streams.specs.size() - streams.tuning, set.test_people.size());
+               set.dataset.c_str(), training.size(), set.people.size(), streams.tuning, tuners.size(),
+               streams.no_action, streams.specs.size() - streams.tuning - streams.no_action,
+               set.test_people.size());
   const TrackerParams tracker = trackerParams(args);
   const int jobs = jobsOption(args);
   installInterruptHandler();

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,16 @@ nlohmann::json policyJson(const PolicyParams& p);
  * (--tuning-people) with a model trained on the others.
  */
 int runOnlineProtocol(const class Args& args, const std::vector<SampleRef>& samples, const std::string& dir);
+
+/**
+ * train --no-action-windows N: renders one stream of every person of @p samples (--synth ias:
+ * synthetic actors; --synth msr: MSR subjects, of the actions they train on), extracts it with
+ * @p params and appends up to @p per_stream of its no-action windows (no_action.h) to @p labelled,
+ * their indices to @p rows; @p store keeps their frames. Returns how many were added.
+ */
+std::size_t appendNoActionStreams(const class Args& args, const std::vector<SampleRef>& samples, int per_stream,
+                                  const RecognitionParams& params, std::vector<LabelledSample>& labelled,
+                                  std::vector<std::size_t>& rows, std::deque<SampleFrames>& store);
 
 /** Adds the online protocol's options. */
 void addOnlineOptions(class Options& o);

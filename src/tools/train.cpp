@@ -3,9 +3,11 @@
 // sequence descriptor -> classifier.
 #include "../offline/cli.h"
 #include "../offline/extraction.h"
+#include "../offline/online_protocol.h"
 #include "../offline/sample_sources.h"
 
 #include <cstdio>
+#include <deque>
 #include <iostream>
 
 using namespace action_flow;
@@ -21,6 +23,10 @@ Options options()
       .value("exclude-person", "P", "leave one person out of the training set")
       .value("jobs", "N", "samples processed in parallel (default 2)")
       .value("cache", "DIR", "frame descriptor cache (default ~/.ros/action_flow/cache)")
+      .value("no-action-windows", "N",
+             "--synth ias|msr: also learn the class no_action from up to N windows of transitions and idle "
+             "periods in one continuous stream of each training person (for the online mode; default 0: none)")
+      .value("stream-actions", "N", "actions in each of those streams (default 8)")
       .flag("list-params", "print every parameter (name, type, default, doc) as markdown and exit");
   addSampleOptions(o);
   addMethodOptions(o);
@@ -65,6 +71,11 @@ int main(int argc, char** argv)
       labelled.push_back({ samples[i].person, samples[i].action, &frames[0][i] });
       rows.push_back(i);
     }
+    std::deque<SampleFrames> no_action;
+    const int windows = static_cast<int>(args.integer("no-action-windows", 0, 0, 100));
+    if (windows > 0)
+      std::fprintf(stderr, "train: %zu no-action samples\n",
+                   appendNoActionStreams(args, samples, windows, params, labelled, rows, no_action));
     const ActionModel model = trainModel(labelled, rows, params);
     model.save(args.get("output"));
     std::printf("train: wrote %s: recognizer %s, %zu sequences, %zu actions, descriptor length %ld%s\n",

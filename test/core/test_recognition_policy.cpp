@@ -41,12 +41,22 @@ Eigen::VectorXf frame(const std::string& what, int i, std::mt19937& rng, float s
     d[kick_cell + 5] = speed;
     d[kick_cell] = 0.25f + 0.15f * std::sin(2.0f * 3.14159f * i / 20.0f);
   }
+  else if (what == "shift")  // a step sideways between actions: flow along x, and up at the arms
+  {
+    const int mid_cell = layout.offset(2) + kPostureFlowValuesPerCell * 30;
+    d[1] = speed;
+    d[3] = speed;
+    d[mid_cell + 1] = speed;
+    d[wave_cell + 3] = speed;
+    d[mid_cell] = 0.25f + 0.15f * std::sin(2.0f * 3.14159f * i / 25.0f);
+  }
   for (int k = 0; k < d.size(); ++k)
     d[k] = std::max(0.0f, d[k] + (k < 7 && k > 0 ? std::abs(noise(rng)) : noise(rng) * 0.1f));
   return d;
 }
 
-std::shared_ptr<ActionModel> trainedModel()
+// Trained on standing, wave and kick; with @p no_action also on steps sideways as the class no_action.
+std::shared_ptr<ActionModel> trainedModel(bool no_action = false)
 {
   auto m = std::make_shared<ActionModel>();
   m->params = defaultRecognitionParams();
@@ -55,7 +65,10 @@ std::shared_ptr<ActionModel> trainedModel()
   m->params.pyramid.mirror = MirrorMode::Off;
   std::mt19937 rng(7);
   std::vector<Eigen::VectorXf> rows;
-  for (const std::string label : { "standing", "wave", "kick" })
+  std::vector<std::string> kinds = { "standing", "wave", "kick" };
+  if (no_action)
+    kinds.push_back("shift");
+  for (const std::string& kind : kinds)
     for (int rep = 0; rep < 8; ++rep)
     {
       // Training samples have a little stillness before and after the action, as the datasets do.
@@ -65,11 +78,11 @@ std::shared_ptr<ActionModel> trainedModel()
       for (int i = 0; i < n; ++i)
       {
         const bool lead = i < 12 || i >= n - 12;
-        frames.push_back(frame(lead ? "standing" : label, i, rng));
+        frames.push_back(frame(lead ? "standing" : kind, i, rng));
         stamps.push_back(i / kFps);
       }
       rows.push_back(m->sequence(frames, stamps));
-      m->labels.push_back(label);
+      m->labels.push_back(kind == "shift" ? kNoActionLabel : kind);
       m->persons.push_back("p" + std::to_string(rep));
     }
   m->descriptors.resize(static_cast<Eigen::Index>(rows.size()), m->sequenceLength());
@@ -187,6 +200,30 @@ TEST(RecognitionPolicy, IdleLabelsAreNeverPublished)
   EXPECT_EQ(events[0].event.result.label, "standing");
   EXPECT_EQ(events[1].event.kind, LabelEvent::Kind::Ended);  // closed when the track ends
   EXPECT_TRUE(events[1].event.closes_published);
+}
+
+TEST(RecognitionPolicy, TransitionsLearntAsNoActionAreNeverPublished)
+{
+  // A closed-set model has only actions to answer with, so a step sideways becomes one of them.
+  const std::vector<Piece> stream = { { "standing", 1.0 }, { "shift", 2.0 }, { "standing", 2.0 }, { "kick", 2.0 },
+                                      { "standing", 2.0 } };
+  const auto labelsOf = [&](const std::shared_ptr<ActionModel>& m) {
+    RecognitionPolicy policy(m, online());
+    std::vector<std::pair<std::string, double>> out;  // each new label and its start
+    for (const Published& p : play(policy, stream))
+      if (!p.event.closes_published)
+        out.emplace_back(p.event.result.label, p.event.start);
+    return out;
+  };
+  const auto closed = labelsOf(model());
+  ASSERT_EQ(closed.size(), 2u);
+  EXPECT_NE(closed[0].first, "kick");
+  EXPECT_EQ(closed[1].first, "kick");
+  // A model that learnt such steps as no_action says so, and no_action is idle by default.
+  const auto open = labelsOf(trainedModel(true));
+  ASSERT_EQ(open.size(), 1u);
+  EXPECT_EQ(open[0].first, "kick");
+  EXPECT_NEAR(open[0].second, 5.0, 0.6);
 }
 
 TEST(RecognitionPolicy, SlidingWindowPublishesEachChangeOnce)

@@ -228,6 +228,28 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   EXPECT_LE(t["f1"].get<double>(), 1.0);
   EXPECT_GE(t["frame_accuracy"].get<double>(), 0.0);
   EXPECT_LE(t["frame_accuracy"].get<double>(), 1.0);
+  // The no-action class: 0, 6 or 12 windows a stream of the training people who do not tune (p01,
+  // p02), chosen on the tuning person's stream; the final model takes them from p03's too.
+  ASSERT_EQ(v["no_action_candidates"].size(), 3u);
+  EXPECT_EQ(v["no_action_candidates"][0]["samples"], 0);
+  const int six = v["no_action_candidates"][1]["samples"];
+  EXPECT_GT(six, 0) << "no window of transitions or idle periods in p01's and p02's streams";
+  EXPECT_LE(six, 12);
+  EXPECT_GE(v["no_action_candidates"][2]["samples"].get<int>(), six);
+  const int chosen = v["no_action_windows"];
+  EXPECT_TRUE(chosen == 0 || chosen == 6 || chosen == 12) << chosen;
+  EXPECT_EQ(v["no_action_samples"].get<int>() > 0, chosen > 0);
+
+  // train learns the class from the same streams (from the cache) when asked: one class more.
+  const std::string base = kBin + "/train --synth ias --people 3 --repetitions 1 --actions wave,kick,sit_down" +
+                           " --stream-actions 2 --cache '" + cache + "' --jobs 2 --output '" + out + "/m.model'";
+  const Result closed = run(base);
+  ASSERT_EQ(closed.status, 0) << closed.output;
+  EXPECT_NE(closed.output.find(" 3 actions"), std::string::npos) << closed.output;
+  const Result open = run(base + " --no-action-windows 6");
+  ASSERT_EQ(open.status, 0) << open.output;
+  EXPECT_NE(open.output.find(" 4 actions"), std::string::npos) << open.output;
+  EXPECT_NE(open.output.find("no-action samples"), std::string::npos) << open.output;
 
   // Out of range: a usage error naming the option.
   const Result bad = run(kBin + "/evaluate --synth ias --protocol online --stream-actions 1 --output '" + out + "'");
