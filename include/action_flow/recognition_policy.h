@@ -73,6 +73,11 @@ struct PolicyParams
   double min_segment = 0.8;       ///< s: shorter segments are neither labelled early nor at their end
   double max_segment = 8.0;       ///< s: a longer segment is classified over its last max_segment seconds
   bool publish_early = true;      ///< publish during a segment once stable; false: only when it closes
+  /**
+   * s: a segment labelled when it closes is also classified with trim / 2 or trim cut from its start,
+   * its end or both; the surest of those answers is taken, with its span (0: the whole segment).
+   */
+  double trim = 0.0;
   double window = 3.0;            ///< sliding window (no motion): seconds classified
   double min_coverage = 0.8;      ///< sliding window: share of `window` the frames must span first
 
@@ -100,6 +105,7 @@ struct PolicyParams
     v("min_segment", p.min_segment, "s: shorter segments give no label", s);
     v("max_segment", p.max_segment, "s: a longer one is classified over its last max_segment seconds", s);
     v("publish_early", p.publish_early, "publish while the action is under way once stable", s);
+    v("trim", p.trim, "s: a closing segment is also classified with trim/2 or trim cut from each end; the surest wins", s);
     v("window", p.window, "sliding window (models without motion): seconds classified", s);
     v("min_coverage", p.min_coverage, "sliding window: share of window the frames must span first", s);
   }
@@ -202,6 +208,8 @@ private:
   std::optional<double> firstOrLastMoving(const Track& t, bool first) const;
   std::optional<LabelEvent> closeSegment(std::uint32_t id, Track& t);
   std::optional<Classification> classify(const Track& t, double from, double to, std::size_t* count) const;
+  /** classify() of [from, to] and, with params_.trim, of it cut at its ends; the surest, and its span. */
+  std::optional<Classification> classifyTrimmed(const Track& t, double& from, double& to, std::size_t* count) const;
   bool stable(Track& t, const Classification& c) const;
   bool publishable(const Classification& c) const;
   double smoothedMotion(const Track& t) const;

@@ -49,9 +49,10 @@ void PolicyParams::validate() const
   require(motion_smooth >= 0.0 && rest_time > 0.0 && motion_lag > 0.0, "motion_smooth >= 0, rest_time > 0, motion_lag > 0");
   require(pre_roll >= 0.0 && post_roll >= 0.0 && post_roll <= rest_time, "pre_roll >= 0, 0 <= post_roll <= rest_time");
   require(min_segment >= 0.0 && max_segment > min_segment, "0 <= min_segment < max_segment");
+  require(trim >= 0.0 && trim < max_segment, "0 <= trim < max_segment");
   require(window > 0.0 && min_coverage >= 0.0 && min_coverage <= 1.0, "window > 0, min_coverage in [0,1]");
   for (double v : { motion_on, motion_off, motion_lag, motion_smooth, rest_time, pre_roll, post_roll, min_segment, max_segment,
-                    window, min_coverage, min_confidence })
+                    window, min_coverage, min_confidence, trim })
     require(std::isfinite(v), "finite values");
 }
 
@@ -227,14 +228,39 @@ std::optional<LabelEvent> RecognitionPolicy::closeSegment(std::uint32_t id, Trac
   LabelEvent e = event(LabelEvent::Kind::Ended, id, Classification(), 0.0, end, 0);
   if (t.last_motion - t.segment_start < params_.min_segment)
     return std::nullopt;
-  const double from = std::max(t.segment_start - params_.pre_roll, end - params_.max_segment);
-  const auto c = classify(t, from, end, &e.frames);
+  double from = std::max(t.segment_start - params_.pre_roll, end - params_.max_segment);
+  const auto c = classifyTrimmed(t, from, e.end, &e.frames);
   if (!c || !publishable(*c))
     return std::nullopt;
   e.result = *c;
   e.start = std::max(from, t.frames.front().stamp);
   t.published = c->label;
   return e;
+}
+
+std::optional<Classification> RecognitionPolicy::classifyTrimmed(const Track& t, double& from, double& to,
+                                                                 std::size_t* count) const
+{
+  std::optional<Classification> best = classify(t, from, to, count);
+  const double whole_from = from, whole_to = to;
+  for (int cut_start = 0; params_.trim > 0.0 && cut_start <= 2; ++cut_start)
+    for (int cut_end = 0; cut_end <= 2; ++cut_end)
+    {
+      const double f = whole_from + cut_start * params_.trim / 2, e = whole_to - cut_end * params_.trim / 2;
+      if ((cut_start == 0 && cut_end == 0) || e - f < params_.min_segment)
+        continue;
+      std::size_t n = 0;
+      const auto c = classify(t, f, e, &n);
+      if (c && (!best || c->confidence > best->confidence))
+      {
+        best = c;
+        from = f;
+        to = e;
+        if (count)
+          *count = n;
+      }
+    }
+  return best;
 }
 
 std::optional<Classification> RecognitionPolicy::classify(const Track& t, double from, double to,

@@ -240,16 +240,20 @@ std::vector<PolicyParams> policyCandidates(Recognizer recognizer)
         // people), so the rejection thresholds run up to 0.7.
         for (double confidence : { 0.0, 0.2, 0.3, 0.5, 0.7 })
           for (int stable : { 0, 2, 3 })  // 0: no early label, only when the segment ends
-          {
-            PolicyParams p = base;
-            p.motion_on = on;
-            p.motion_off = 0.6 * on;
-            p.rest_time = rest;
-            p.min_confidence = confidence;
-            p.publish_early = stable > 0;
-            p.stable_count = std::max(stable, 1);
-            out.push_back(p);
-          }
+            for (double trim : { 0.0, 1.0 })  // only for labels given when the segment ends
+            {
+              if (stable > 0 && trim > 0.0)
+                continue;
+              PolicyParams p = base;
+              p.motion_on = on;
+              p.motion_off = 0.6 * on;
+              p.rest_time = rest;
+              p.min_confidence = confidence;
+              p.publish_early = stable > 0;
+              p.stable_count = std::max(stable, 1);
+              p.trim = trim;
+              out.push_back(p);
+            }
   }
   // The sliding window: the only way for the paper's descriptors (they carry no shape), and a
   // candidate for posture_flow too.
@@ -299,6 +303,7 @@ json policyJson(const PolicyParams& p)
   return { { "motion_segments", p.motion_segments }, { "motion_on", p.motion_on },         { "motion_off", p.motion_off },   { "rest_time", p.rest_time },
            { "min_confidence", p.min_confidence },
            { "publish_early", p.publish_early }, { "stable_count", p.stable_count }, { "classify_every", p.classify_every },
+           { "trim", p.trim },
            { "window", p.window },               { "idle_labels", p.idle_labels } };
 }
 

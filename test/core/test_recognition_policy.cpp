@@ -226,6 +226,32 @@ TEST(RecognitionPolicy, TransitionsLearntAsNoActionAreNeverPublished)
   EXPECT_NEAR(open[0].second, 5.0, 0.6);
 }
 
+TEST(RecognitionPolicy, TrimmingTakesTheSurestPartOfASegment)
+{
+  // A kick run straight into a step sideways is one motion segment; cut at its ends, its surest part
+  // is the kick, and the label's span ends where the kick does.
+  PolicyParams p = online();
+  p.publish_early = false;
+  const std::vector<Piece> stream = { { "standing", 1.0 }, { "kick", 2.5 }, { "shift", 1.0 }, { "standing", 2.0 } };
+  const auto labelled = [&](double trim) {
+    p.trim = trim;
+    RecognitionPolicy policy(model(), p);
+    std::vector<LabelEvent> out;
+    for (const Published& e : play(policy, stream))
+      out.push_back(e.event);
+    return out;
+  };
+  const auto whole = labelled(0.0);
+  const auto trimmed = labelled(1.0);
+  ASSERT_EQ(whole.size(), 1u);
+  ASSERT_EQ(trimmed.size(), 1u);
+  EXPECT_EQ(trimmed[0].result.label, "kick");
+  EXPECT_GT(whole[0].end, 4.2);  // the whole segment runs to the end of the step
+  EXPECT_LT(trimmed[0].end, whole[0].end - 0.4);
+  EXPECT_GE(trimmed[0].result.confidence, whole[0].result.confidence);
+  EXPECT_GE(trimmed[0].end - trimmed[0].start, p.min_segment);
+}
+
 TEST(RecognitionPolicy, SlidingWindowPublishesEachChangeOnce)
 {
   PolicyParams p = online();
@@ -343,6 +369,9 @@ TEST(RecognitionPolicy, RefusesBadInput)
   EXPECT_THROW(RecognitionPolicy(model(), bad), std::invalid_argument);
   bad = PolicyParams();
   bad.stable_count = 0;
+  EXPECT_THROW(RecognitionPolicy(model(), bad), std::invalid_argument);
+  bad = PolicyParams();
+  bad.trim = -0.5;
   EXPECT_THROW(RecognitionPolicy(model(), bad), std::invalid_argument);
   RecognitionPolicy policy(model(), PolicyParams());
   EXPECT_THROW(policy.add(1, Eigen::VectorXf::Zero(12), 0.0), std::invalid_argument);
