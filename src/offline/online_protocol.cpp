@@ -391,7 +391,7 @@ std::vector<std::string> onlineVariants(const Args& args)
 std::vector<int> noActionCandidates(const std::string& variant)
 {
   if (variant == "posture_flow")
-    return { 0, 6, 12 };
+    return { 0, 6, 12, 24 };
   return { 0 };
 }
 
