@@ -384,15 +384,19 @@ std::vector<std::string> onlineVariants(const Args& args)
 }
 
 /**
- * The no-action windows per training stream the variant may learn as the class no_action, chosen
- * on the tuning streams: posture_flow chooses among these (0: closed set, the actions only); the
- * others learn none (sumflow is the paper's recognizer, unchanged).
+ * The windows per training stream the variant may learn (as no_action, and as the action they
+ * hold), chosen on the tuning streams: posture_flow chooses among these (0 and 0: the segmented
+ * samples only); the others learn none (sumflow is the paper's recognizer, unchanged).
  */
-std::vector<int> noActionCandidates(const std::string& variant)
+std::vector<StreamWindowCounts> windowCandidates(const std::string& variant)
 {
-  if (variant == "posture_flow")
-    return { 0, 6, 12, 24 };
-  return { 0 };
+  if (variant != "posture_flow")
+    return { {} };
+  std::vector<StreamWindowCounts> out;
+  for (int action : { 0, 24 })
+    for (int no_action : { 0, 6, 12, 24 })
+      out.push_back({ no_action, action });
+  return out;
 }
 
 /** What every variant of a run reads: the training samples, the streams and their descriptors. */
@@ -453,22 +457,43 @@ void printVariantScore(const std::string& v, const StreamScore& all)
 }
 
 /**
- * Adds to @p labelled (and its index to @p rows) the no-action windows of @p streams, at most
- * @p per_stream each, as samples of the stream's person; @p store keeps their frames.
+ * Adds to @p labelled (and its index to @p rows) the no-action windows and the action windows of
+ * @p streams (no_action.h), at most @p counts of each a stream, as samples of the stream's person;
+ * @p store keeps their frames. Action windows only of the actions @p labelled already holds.
  */
-void addNoActionSamples(const std::vector<StreamCase>& streams, const std::vector<std::string>& persons,
-                        int per_stream, std::vector<LabelledSample>& labelled, std::vector<std::size_t>& rows,
-                        std::deque<SampleFrames>& store)
+void addStreamWindows(const std::vector<StreamCase>& streams, const std::vector<std::string>& persons,
+                      const StreamWindowCounts& counts, std::vector<LabelledSample>& labelled,
+                      std::vector<std::size_t>& rows, std::deque<SampleFrames>& store)
 {
-  NoActionWindows w;
-  w.per_stream = per_stream;
+  NoActionWindows idle;
+  idle.per_stream = counts.no_action;
+  ActionWindows acting;
+  acting.per_stream = counts.action;
+  std::set<std::string> known;
+  for (const LabelledSample& s : labelled)
+    known.insert(s.action);
+  const auto add = [&](const std::string& person, const std::string& label, SampleFrames&& f) {
+    store.push_back(std::move(f));
+    rows.push_back(labelled.size());
+    labelled.push_back({ person, label, &store.back() });
+  };
   for (std::size_t i = 0; i < streams.size(); ++i)
-    for (SampleFrames& f : noActionWindows(streams[i].truth, *streams[i].frames, w))
-    {
-      store.push_back(std::move(f));
-      rows.push_back(labelled.size());
-      labelled.push_back({ persons[i], kNoActionLabel, &store.back() });
-    }
+  {
+    for (SampleFrames& f : noActionWindows(streams[i].truth, *streams[i].frames, idle))
+      add(persons[i], kNoActionLabel, std::move(f));
+    for (ActionWindow& a : actionWindows(streams[i].truth, *streams[i].frames, acting))
+      if (known.count(a.label))
+        add(persons[i], a.label, std::move(a.frames));
+  }
+}
+
+/** How many of @p labelled from @p first on are labelled no_action. */
+std::size_t noActionCount(const std::vector<LabelledSample>& labelled, std::size_t first)
+{
+  std::size_t n = 0;
+  for (std::size_t i = first; i < labelled.size(); ++i)
+    n += labelled[i].action == kNoActionLabel;
+  return n;
 }
 
 /** The persons of the streams [first, first + n) of the run. */
@@ -481,8 +506,8 @@ std::vector<std::string> streamPersons(const OnlineStreams& streams, std::size_t
 }
 
 /**
- * Variant @p v: the policy's thresholds (and the no-action windows a stream gives, when the variant
- * learns the class) chosen on the tuning streams with a model trained without the tuning people,
+ * Variant @p v: the policy's thresholds (and the windows a stream gives, when the variant learns
+ * from them) chosen on the tuning streams with a model trained without the tuning people,
  * then the model of every training person on the test streams; returns its report entry and adds
  * its test streams to @p timeline.
  */
@@ -505,21 +530,25 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
   const RecognitionParams& params = run.extractions[e];
   PolicyParams chosen;
   StreamScore tuning_score;
-  int windows = 0;
+  StreamWindowCounts windows;
   json per_windows = json::array();
-  for (int candidate : noActionCandidates(v))
+  for (const StreamWindowCounts& candidate : windowCandidates(v))
   {
     std::vector<LabelledSample> inner = labelled;
     std::vector<std::size_t> rows = run.inner_rows;
     std::deque<SampleFrames> store;
-    addNoActionSamples(sources, source_persons, candidate, inner, rows, store);
+    addStreamWindows(sources, source_persons, candidate, inner, rows, store);
     auto tuning_model = std::make_shared<const ActionModel>(trainModel(inner, rows, params));
     StreamScore s;
     const PolicyParams p = choosePolicy(tuning_model, tuning, policyCandidates(params.recognizer), &s);
-    per_windows.push_back({ { "no_action_windows", candidate }, { "samples", rows.size() - run.inner_rows.size() },
+    const std::size_t idle = noActionCount(inner, labelled.size());
+    per_windows.push_back({ { "no_action_windows", candidate.no_action }, { "action_windows", candidate.action },
+                            { "samples", idle }, { "action_samples", inner.size() - labelled.size() - idle },
                             { "policy", policyJson(p) }, { "tuning_score", scoreJson(s) } });
-    std::fprintf(stderr, "evaluate: %s with %d no-action windows a stream: tuning F1 %.2f, %.1f false labels/min in idle\n",
-                 v.c_str(), candidate, s.f1, s.idle_false_per_minute());
+    std::fprintf(stderr,
+                 "evaluate: %s with %d no-action and %d action windows a stream: tuning F1 %.2f, %.1f false "
+                 "labels/min in idle\n",
+                 v.c_str(), candidate.no_action, candidate.action, s.f1, s.idle_false_per_minute());
     if (per_windows.size() == 1 || s.f1 > tuning_score.f1 + 1e-12 ||
         (std::fabs(s.f1 - tuning_score.f1) <= 1e-12 &&
          s.idle_false_per_minute() < tuning_score.idle_false_per_minute() - 1e-12))
@@ -531,8 +560,10 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
   }
   std::vector<std::size_t> rows = run.all_rows;
   std::deque<SampleFrames> store;
-  addNoActionSamples(sources, source_persons, windows, labelled, rows, store);
-  addNoActionSamples(tuning, tuning_persons, windows, labelled, rows, store);
+  const std::size_t segmented = labelled.size();
+  addStreamWindows(sources, source_persons, windows, labelled, rows, store);
+  addStreamWindows(tuning, tuning_persons, windows, labelled, rows, store);
+  const std::size_t idle = noActionCount(labelled, segmented);
   auto model = std::make_shared<const ActionModel>(trainModel(labelled, rows, params));
 
   std::vector<StreamScore> scores;
@@ -541,8 +572,10 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
   printVariantScore(v, all);
   return { { "variant", v },
            { "policy", policyJson(chosen) },
-           { "no_action_windows", windows },
-           { "no_action_samples", rows.size() - run.all_rows.size() },
+           { "no_action_windows", windows.no_action },
+           { "no_action_samples", idle },
+           { "action_windows", windows.action },
+           { "action_window_samples", labelled.size() - segmented - idle },
            { "no_action_candidates", per_windows },
            { "tuning_score", scoreJson(tuning_score) },
            { "test", scoreJson(all) },
@@ -562,13 +595,13 @@ void writeOnlineReport(const Args& args, const std::string& dir, const json& rep
 }
 }  // namespace
 
-std::size_t appendNoActionStreams(const Args& args, const std::vector<SampleRef>& samples, int per_stream,
+std::size_t appendStreamWindows(const Args& args, const std::vector<SampleRef>& samples, const StreamWindowCounts& counts,
                                   const RecognitionParams& params, std::vector<LabelledSample>& labelled,
                                   std::vector<std::size_t>& rows, std::deque<SampleFrames>& store)
 {
   const std::string dataset = args.get("synth");
   if (dataset != "ias" && dataset != "msr")
-    throw UsageError("--no-action-windows renders streams of the training people: give --synth ias or --synth msr");
+    throw UsageError("--no-action-windows and --action-windows render streams of the training people: give --synth ias or --synth msr");
   std::vector<std::string> persons, actions;
   for (const auto& s : samples)
   {
@@ -590,7 +623,7 @@ std::size_t appendNoActionStreams(const Args& args, const std::vector<SampleRef>
   std::vector<SampleRef> refs;
   for (const auto& s : specs)
     refs.push_back(renderedSample(s));
-  std::fprintf(stderr, "train: %zu streams of the training people for no-action windows\n", refs.size());
+  std::fprintf(stderr, "train: %zu streams of the training people for windows to learn from\n", refs.size());
   const auto frames = extractAll(refs, { params }, trackerParams(args), cacheDir(args), jobsOption(args));
   const auto cases = streamCases(specs, frames[0]);
   std::vector<std::string> of;
@@ -598,7 +631,7 @@ std::size_t appendNoActionStreams(const Args& args, const std::vector<SampleRef>
     of.push_back(s.person);
   const std::size_t before = rows.size();
   // The frames live in `frames`, which ends here: the windows copy what they take.
-  addNoActionSamples(cases, of, per_stream, labelled, rows, store);
+  addStreamWindows(cases, of, counts, labelled, rows, store);
   return rows.size() - before;
 }
 
@@ -614,7 +647,7 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, c
 
   std::fprintf(stderr,
                "evaluate: online protocol (%s): %zu training samples of %zu people; "
-               "thresholds chosen on %zu streams of %zu of them; %zu streams of the others for no-action windows; "
+               "thresholds chosen on %zu streams of %zu of them; %zu streams of the others for windows to learn from; "
                "tested on %zu streams of %zu new people\n",
                set.dataset.c_str(), training.size(), set.people.size(), streams.tuning, tuners.size(),
                streams.no_action, streams.specs.size() - streams.tuning - streams.no_action,

@@ -60,15 +60,23 @@ nlohmann::json policyJson(const PolicyParams& p);
  */
 int runOnlineProtocol(const class Args& args, const std::vector<SampleRef>& samples, const std::string& dir);
 
+/** How many windows of each training stream a model learns: as no_action, and as the action they hold. */
+struct StreamWindowCounts
+{
+  int no_action = 0;
+  int action = 0;
+};
+
 /**
- * train --no-action-windows N: renders one stream of every person of @p samples (--synth ias:
- * synthetic actors; --synth msr: MSR subjects, of the actions they train on), extracts it with
- * @p params and appends up to @p per_stream of its no-action windows (no_action.h) to @p labelled,
- * their indices to @p rows; @p store keeps their frames. Returns how many were added.
+ * train --no-action-windows N --action-windows M: renders one stream of every person of @p samples
+ * (--synth ias: synthetic actors; --synth msr: MSR subjects, of the actions they train on), extracts
+ * it with @p params and appends up to @p counts of its no-action and action windows (no_action.h)
+ * to @p labelled, their indices to @p rows; @p store keeps their frames. Returns how many were added.
  */
-std::size_t appendNoActionStreams(const class Args& args, const std::vector<SampleRef>& samples, int per_stream,
-                                  const RecognitionParams& params, std::vector<LabelledSample>& labelled,
-                                  std::vector<std::size_t>& rows, std::deque<SampleFrames>& store);
+std::size_t appendStreamWindows(const class Args& args, const std::vector<SampleRef>& samples,
+                                const StreamWindowCounts& counts, const RecognitionParams& params,
+                                std::vector<LabelledSample>& labelled, std::vector<std::size_t>& rows,
+                                std::deque<SampleFrames>& store);
 
 /** Adds the online protocol's options. */
 void addOnlineOptions(class Options& o);

@@ -26,6 +26,9 @@ Options options()
       .value("no-action-windows", "N",
              "--synth ias|msr: also learn the class no_action from up to N windows of transitions and idle "
              "periods in one continuous stream of each training person (for the online mode; default 0: none)")
+      .value("action-windows", "N",
+             "--synth ias|msr: also learn each action from up to N 3 s windows of that stream that hold it with "
+             "the transitions around it (default 0: none)")
       .value("stream-actions", "N", "actions in each of those streams (default 8)")
       .flag("list-params", "print every parameter (name, type, default, doc) as markdown and exit");
   addSampleOptions(o);
@@ -71,11 +74,18 @@ int main(int argc, char** argv)
       labelled.push_back({ samples[i].person, samples[i].action, &frames[0][i] });
       rows.push_back(i);
     }
-    std::deque<SampleFrames> no_action;
-    const int windows = static_cast<int>(args.integer("no-action-windows", 0, 0, 100));
-    if (windows > 0)
-      std::fprintf(stderr, "train: %zu no-action samples\n",
-                   appendNoActionStreams(args, samples, windows, params, labelled, rows, no_action));
+    std::deque<SampleFrames> windows;
+    StreamWindowCounts counts;
+    counts.no_action = static_cast<int>(args.integer("no-action-windows", 0, 0, 100));
+    counts.action = static_cast<int>(args.integer("action-windows", 0, 0, 100));
+    if (counts.no_action > 0 || counts.action > 0)
+    {
+      const std::size_t added = appendStreamWindows(args, samples, counts, params, labelled, rows, windows);
+      std::size_t idle = 0;
+      for (const LabelledSample& s : labelled)
+        idle += s.action == kNoActionLabel;
+      std::fprintf(stderr, "train: %zu no-action samples, %zu action windows from the streams\n", idle, added - idle);
+    }
     const ActionModel model = trainModel(labelled, rows, params);
     model.save(args.get("output"));
     std::printf("train: wrote %s: recognizer %s, %zu sequences, %zu actions, descriptor length %ld%s\n",

@@ -104,3 +104,59 @@ TEST(NoActionWindows, RefusesBadSettings)
   bad.stamps.pop_back();
   EXPECT_THROW(noActionWindows(kTruth, bad, NoActionWindows()), std::invalid_argument);
 }
+
+TEST(ActionWindows, KnownWindowsHoldOneWholeAction)
+{
+  // 3 s windows every 0.5 s holding at least 1.6 s of a 2 s action and at most 0.3 s of another:
+  // wave from 1, 1.5 and 2; kick from 5, 5.5 and 6 (6.5 would hold only 1.5 s of kick).
+  ActionWindows w;
+  w.per_stream = 100;
+  const auto found = actionWindows(kTruth, stream(), w);
+  ASSERT_EQ(found.size(), 6u);
+  const std::vector<std::pair<std::string, double>> expected = { { "wave", 1.0 }, { "wave", 1.5 }, { "wave", 2.0 },
+                                                                 { "kick", 5.0 }, { "kick", 5.5 }, { "kick", 6.0 } };
+  for (std::size_t k = 0; k < found.size(); ++k)
+  {
+    EXPECT_EQ(found[k].label, expected[k].first);
+    EXPECT_NEAR(found[k].frames.stamps.front(), expected[k].second, 1e-9);
+    EXPECT_NEAR(found[k].frames.stamps.back(), expected[k].second + 3.0, 1e-9);
+    EXPECT_EQ(found[k].frames.descriptors.rows(), 31);
+  }
+  // Capped at 2: spread evenly, one of each.
+  w.per_stream = 2;
+  const auto two = actionWindows(kTruth, stream(), w);
+  ASSERT_EQ(two.size(), 2u);
+  EXPECT_EQ(two[0].label, "wave");
+  EXPECT_NEAR(two[0].frames.stamps.front(), 1.5, 1e-9);
+  EXPECT_EQ(two[1].label, "kick");
+  EXPECT_NEAR(two[1].frames.stamps.front(), 5.5, 1e-9);
+  // An action of 4 s never fits 80 % of itself into a 3 s window.
+  EXPECT_TRUE(actionWindows({ { "wave", 2.0, 6.0 } }, stream(), ActionWindows()).empty());
+  // With 0.5 s between two actions and none of the other allowed, only windows that touch neither
+  // neighbour: wave from 1.0 and 1.5 (to 4.5, where kick starts), kick from 4.0 (where wave ends) and 4.5.
+  w = ActionWindows();
+  w.max_other_share = 0.0;
+  w.per_stream = 100;
+  const auto tight = actionWindows({ { "wave", 2.0, 4.0 }, { "kick", 4.5, 6.5 } }, stream(), w);
+  ASSERT_EQ(tight.size(), 4u);
+  const std::vector<double> tight_starts = { 1.0, 1.5, 4.0, 4.5 };
+  for (std::size_t k = 0; k < tight.size(); ++k)
+  {
+    EXPECT_EQ(tight[k].label, k < 2 ? "wave" : "kick");
+    EXPECT_NEAR(tight[k].frames.stamps.front(), tight_starts[k], 1e-9);
+  }
+  EXPECT_TRUE(actionWindows({}, stream(), ActionWindows()).empty());
+}
+
+TEST(ActionWindows, RefusesBadSettings)
+{
+  ActionWindows w;
+  w.length = 0.0;
+  EXPECT_THROW(actionWindows(kTruth, stream(), w), std::invalid_argument);
+  w = ActionWindows();
+  w.max_other_share = 1.5;
+  EXPECT_THROW(actionWindows(kTruth, stream(), w), std::invalid_argument);
+  SampleFrames bad = stream();
+  bad.stamps.pop_back();
+  EXPECT_THROW(actionWindows(kTruth, bad, ActionWindows()), std::invalid_argument);
+}

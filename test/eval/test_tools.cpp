@@ -229,8 +229,20 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   EXPECT_GE(t["frame_accuracy"].get<double>(), 0.0);
   EXPECT_LE(t["frame_accuracy"].get<double>(), 1.0);
   // The no-action class: 0, 6, 12 or 24 windows a stream of the training people who do not tune (p01,
-  // p02), chosen on the tuning person's stream; the final model takes them from p03's too.
-  ASSERT_EQ(v["no_action_candidates"].size(), 4u);
+  // p02), with or without 24 action windows, chosen on the tuning person's stream; the final model
+  // takes them from p03's too.
+  ASSERT_EQ(v["no_action_candidates"].size(), 8u);
+  for (int k = 0; k < 4; ++k)
+  {
+    const nlohmann::json& without = v["no_action_candidates"][k];
+    const nlohmann::json& with = v["no_action_candidates"][k + 4];
+    EXPECT_EQ(without["action_windows"], 0);
+    EXPECT_EQ(without["action_samples"], 0);
+    EXPECT_EQ(with["action_windows"], 24);
+    // (the streams draw from all 14 actions: only windows of wave, kick or sit_down can be learnt)
+    EXPECT_GE(with["action_samples"].get<int>(), 0);
+    EXPECT_EQ(with["samples"], without["samples"]);
+  }
   EXPECT_EQ(v["no_action_candidates"][0]["samples"], 0);
   const int six = v["no_action_candidates"][1]["samples"];
   EXPECT_GT(six, 0) << "no window of transitions or idle periods in p01's and p02's streams";
@@ -240,6 +252,10 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   const int chosen = v["no_action_windows"];
   EXPECT_TRUE(chosen == 0 || chosen == 6 || chosen == 12 || chosen == 24) << chosen;
   EXPECT_EQ(v["no_action_samples"].get<int>() > 0, chosen > 0);
+  const int chosen_actions = v["action_windows"];
+  EXPECT_TRUE(chosen_actions == 0 || chosen_actions == 24) << chosen_actions;
+  if (chosen_actions == 0)
+    EXPECT_EQ(v["action_window_samples"], 0);
 
   // train learns the class from the same streams (from the cache) when asked: one class more.
   const std::string base = kBin + "/train --synth ias --people 3 --repetitions 1 --actions wave,kick,sit_down" +
@@ -251,6 +267,21 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   ASSERT_EQ(open.status, 0) << open.output;
   EXPECT_NE(open.output.find(" 4 actions"), std::string::npos) << open.output;
   EXPECT_NE(open.output.find("no-action samples"), std::string::npos) << open.output;
+  // Action windows add samples of the actions it knows, no class (all 15, so that the streams'
+  // actions are among them).
+  const auto sequences = [](const std::string& output) {
+    const std::size_t at = output.find("recognizer ");
+    const std::size_t comma = output.find(", ", at);
+    return at == std::string::npos || comma == std::string::npos ? -1 : std::stoi(output.substr(comma + 2));
+  };
+  const std::string all = kBin + "/train --synth ias --people 3 --repetitions 1 --stream-actions 2 --cache '" + cache +
+                          "' --jobs 2 --output '" + out + "/all.model'";
+  const Result segmented = run(all);
+  ASSERT_EQ(segmented.status, 0) << segmented.output;
+  const Result in_context = run(all + " --action-windows 6");
+  ASSERT_EQ(in_context.status, 0) << in_context.output;
+  EXPECT_NE(in_context.output.find(" 15 actions"), std::string::npos) << in_context.output;
+  EXPECT_GT(sequences(in_context.output), sequences(segmented.output)) << in_context.output << segmented.output;
 
   // Out of range: a usage error naming the option.
   const Result bad = run(kBin + "/evaluate --synth ias --protocol online --stream-actions 1 --output '" + out + "'");
