@@ -8,6 +8,7 @@ import sys
 
 VARIANTS = [("posture_flow", "**posture_flow (default)**"),
             ("posture_flow_no_posture", "posture_flow without posture"),
+            ("posture_flow_choose_posture", "posture_flow, posture chosen by cross-validation"),
             ("posture_flow_no_geometry", "posture_flow without the body geometry"),
             ("posture_flow_sums", "posture_flow, always signed flow sums"),
             ("posture_flow_bins", "posture_flow, always direction bins"),

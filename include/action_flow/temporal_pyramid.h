@@ -58,13 +58,36 @@ struct EnumNames<MirrorMode>
 };
 
 /**
+ * @brief Whether the sequence descriptor holds the cells' shares of the body's points. The names
+ *        are those of a bool, so model files written when this was one still load.
+ */
+enum class PostureMode : std::uint8_t
+{
+  Off = 0,
+  On = 1,
+  Choose = 2  ///< by cross-validation inside the training people
+};
+template <>
+struct EnumNames<PostureMode>
+{
+  static constexpr const char* names[] = { "false", "true", "choose" };
+};
+
+/**
  * @brief Every switch of the default recognizer after the frame descriptor. Each part can be
  *        turned off for an ablation; none of them changes the frame descriptors, so the
  *        ablations share one extraction.
  */
 struct PyramidParams
 {
-  bool posture = true;              ///< use the cells' shares of the body's points
+  /**
+   * Use the cells' shares of the body's points. Choose: decided with C by the cross-validation over
+   * the training people (the shares place a still arm, and they also carry each person's build:
+   * with few training people they can teach the model who, not what). On by default: choosing
+   * doubles the cross-validation's cost, and on MSR Action3D it chose posture every time
+   * (docs/evaluation.md).
+   */
+  PostureMode posture = PostureMode::On;
   FlowEncoding flow = FlowEncoding::Choose;  ///< direction bins or signed sums per cell
   bool coarse_to_fine = true;       ///< cells at 1, 2 and 4 parts per axis; false: 4 only
   /** Use the body-geometry block (centroid, extremes, where the flow is and how it turns); models
@@ -91,7 +114,8 @@ struct PyramidParams
   template <class Self, class V>
   static void visit(Self& p, V&& v)
   {
-    v("pyramid/posture", p.posture, "use the cells' shares of the body's points", Shapes::Model);
+    v("pyramid/posture", p.posture, "use the cells' shares of the body's points (choose: by cross-validation)",
+      Shapes::Model);
     v("pyramid/flow", p.flow, "a cell's flow as direction bins or signed sums (choose: by cross-validation)",
       Shapes::Model);
     v("pyramid/coarse_to_fine", p.coarse_to_fine, "cells at 1, 2 and 4 parts per axis (false: 4 only)",
@@ -109,8 +133,8 @@ struct PyramidParams
 
 /**
  * @brief The part of a full posture-and-flow frame descriptor that @p params use.
- * @throws std::invalid_argument if @p full does not have @p layout's length, or params.flow is
- *         still Choose
+ * @throws std::invalid_argument if @p full does not have @p layout's length, or params.flow or
+ *         params.posture is still Choose
  */
 Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFlowDescriptor& layout,
                                     const PyramidParams& params);

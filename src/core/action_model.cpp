@@ -328,8 +328,9 @@ ActionModel ActionModel::load(const std::string& path)
     r.fail("PCA basis of input length " + std::to_string(m.pca.inputSize()) + " does not fit frame descriptors of " +
            std::to_string(3 * m.params.grid.cells()));
   if (m.params.recognizer == Recognizer::PostureFlow &&
-      (m.params.pyramid.flow == FlowEncoding::Choose || m.params.pyramid.mirror == MirrorMode::Choose))
-    r.fail("holds settings that were never chosen (flow encoding or mirror)");
+      (m.params.pyramid.flow == FlowEncoding::Choose || m.params.pyramid.mirror == MirrorMode::Choose ||
+       m.params.pyramid.posture == PostureMode::Choose))
+    r.fail("holds settings that were never chosen (flow encoding, posture or mirror)");
   if (m.descriptors.rows() > 0 && m.descriptors.cols() != m.sequenceLength())
     r.fail("descriptor length " + std::to_string(m.descriptors.cols()) + " does not match its parameters (" +
            std::to_string(m.sequenceLength()) + ")");

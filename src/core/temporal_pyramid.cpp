@@ -25,8 +25,11 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
                                 ", expected " + std::to_string(layout.size()));
   if (params.flow == FlowEncoding::Choose)
     throw std::invalid_argument("selectFrameFeatures: the flow encoding has not been chosen yet");
+  if (params.posture == PostureMode::Choose)
+    throw std::invalid_argument("selectFrameFeatures: whether to use posture has not been chosen yet");
   const bool bins = params.flow == FlowEncoding::Bins;
-  const int per_cell = (params.posture ? 1 : 0) + (bins ? 6 : 3);
+  const bool posture = params.posture == PostureMode::On;
+  const int per_cell = (posture ? 1 : 0) + (bins ? 6 : 3);
   const int first = params.coarse_to_fine ? 0 : PostureFlowDescriptor::kLevels - 1;
   int cells = 0;
   for (int l = first; l < PostureFlowDescriptor::kLevels; ++l)
@@ -37,7 +40,7 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
     for (int c = 0; c < layout.cells(l); ++c)
     {
       const auto cell = full.segment<kPostureFlowValuesPerCell>(layout.offset(l) + kPostureFlowValuesPerCell * c);
-      if (params.posture)
+      if (posture)
         out[at++] = cell[0];
       for (int a = 0; a < 3; ++a)
         if (bins)

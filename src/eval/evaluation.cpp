@@ -524,12 +524,13 @@ struct TrainingRows
     }
   }
 
-  // Under @p model with the flow encoding @p flow (mirrored rows only when asked).
-  void describe(const ActionModel& model, FlowEncoding flow, bool with_mirrored, Eigen::MatrixXf& x,
-                Eigen::MatrixXf& mirrored) const
+  // Under @p model with the flow encoding @p flow and posture @p posture (mirrored rows only when asked).
+  void describe(const ActionModel& model, FlowEncoding flow, PostureMode posture, bool with_mirrored,
+                Eigen::MatrixXf& x, Eigen::MatrixXf& mirrored) const
   {
     ActionModel probe = model;
     probe.params.pyramid.flow = flow;
+    probe.params.pyramid.posture = posture;
     x.resize(static_cast<Eigen::Index>(rows.size()), probe.sequenceLength());
     for (std::size_t i = 0; i < rows.size(); ++i)
       x.row(static_cast<Eigen::Index>(i)) = sequenceOf(samples[rows[i]], probe).transpose();
@@ -539,10 +540,11 @@ struct TrainingRows
   }
 };
 
-// posture_flow with the linear classifier: C, the mirrored copies and the flow encoding, whichever
-// are not fixed, chosen by cross-validation inside the training people (all that @p t holds) and
-// written into @p pyramid; @p x and @p mirrored receive the rows under the choice. Returns the
-// temperature fitted on the chosen setting's held-out answers (0 with fewer than 2 people).
+// posture_flow with the linear classifier: C, the mirrored copies, the flow encoding and posture,
+// whichever are not fixed, chosen by cross-validation inside the training people (all that @p t
+// holds) and written into @p pyramid; @p x and @p mirrored receive the rows under the choice.
+// Returns the temperature fitted on the chosen setting's held-out answers (0 with fewer than 2
+// people). Ties keep the earlier option: direction bins before sums, posture before none.
 double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, PyramidParams& pyramid, Eigen::MatrixXf& x,
                           Eigen::MatrixXf& mirrored)
 {
@@ -552,24 +554,32 @@ double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, Pyr
   if (pyramid.mirror != MirrorMode::Off)
     mirror_options.push_back(true);
   const std::vector<double> c_options = pyramid.c > 0.0 ? std::vector<double>{ pyramid.c } : linearCandidates();
-  std::vector<FlowEncoding> encodings;  // decided before the loop, which writes pyramid.flow
+  // Decided before the loop, which writes pyramid.flow and pyramid.posture.
+  std::vector<FlowEncoding> encodings;
   for (FlowEncoding e : { FlowEncoding::Bins, FlowEncoding::Sums })
     if (pyramid.flow == FlowEncoding::Choose || pyramid.flow == e)
       encodings.push_back(e);
+  std::vector<PostureMode> postures;
+  for (PostureMode p : { PostureMode::On, PostureMode::Off })
+    if (pyramid.posture == PostureMode::Choose || pyramid.posture == p)
+      postures.push_back(p);
   LinearChoice best;
-  for (FlowEncoding e : encodings)
-  {
-    Eigen::MatrixXf xe, me;
-    t.describe(model, e, mirror_options.back(), xe, me);
-    const LinearChoice choice = chooseLinear(xe, me.size() ? &me : nullptr, t.labels, t.persons, mirror_options, c_options);
-    if (x.size() == 0 || choice.score > best.score + 1e-9)
+  for (PostureMode p : postures)
+    for (FlowEncoding e : encodings)
     {
-      best = choice;
-      pyramid.flow = e;
-      x = std::move(xe);
-      mirrored = std::move(me);
+      Eigen::MatrixXf xe, me;
+      t.describe(model, e, p, mirror_options.back(), xe, me);
+      const LinearChoice choice =
+          chooseLinear(xe, me.size() ? &me : nullptr, t.labels, t.persons, mirror_options, c_options);
+      if (x.size() == 0 || choice.score > best.score + 1e-9)
+      {
+        best = choice;
+        pyramid.flow = e;
+        pyramid.posture = p;
+        x = std::move(xe);
+        mirrored = std::move(me);
+      }
     }
-  }
   pyramid.c = best.c;
   pyramid.mirror = best.mirror ? MirrorMode::On : MirrorMode::Off;
   return best.temperature;
@@ -592,7 +602,7 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
   Eigen::MatrixXf x, mirrored;
   double temperature = 0.0;
   if (!posture_flow)
-    t.describe(model, FlowEncoding::Bins, false, x, mirrored);
+    t.describe(model, FlowEncoding::Bins, PostureMode::On, false, x, mirrored);
   else if (linear)
     temperature = chooseLinearSettings(t, model, pyramid, x, mirrored);
   else
@@ -600,9 +610,11 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
     // 1-NN has nothing to fit: what is not fixed takes the fuller option.
     if (pyramid.flow == FlowEncoding::Choose)
       pyramid.flow = FlowEncoding::Bins;
+    if (pyramid.posture == PostureMode::Choose)
+      pyramid.posture = PostureMode::On;
     if (pyramid.mirror == MirrorMode::Choose)
       pyramid.mirror = MirrorMode::On;
-    t.describe(model, pyramid.flow, pyramid.mirror == MirrorMode::On, x, mirrored);
+    t.describe(model, pyramid.flow, pyramid.posture, pyramid.mirror == MirrorMode::On, x, mirrored);
   }
   model.descriptors = x;
   model.labels = t.labels;
@@ -621,7 +633,7 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
 
 Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
                    const RecognitionParams& params, std::vector<double>* fold_accuracy, std::vector<Pca>* fold_pcas,
-                   int jobs)
+                   int jobs, std::vector<PyramidParams>* fold_choices)
 {
   std::vector<std::string> actions;
   for (const auto& s : samples)
@@ -642,6 +654,7 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
                                       " whom it tests");
   // Folds are independent: up to `jobs` of them train at once; their answers are merged in fold order.
   std::vector<std::vector<Classification>> predicted(folds.size());
+  std::vector<PyramidParams> chosen(folds.size());
   std::vector<std::string> errors(folds.size());
   std::atomic<std::size_t> next{ 0 };
   const auto worker = [&]() {
@@ -653,6 +666,7 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
       try
       {
         const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr);
+        chosen[f] = model.params.pyramid;
         const SequenceClassifier classifier = model.classifier();
         for (std::size_t t : fold.test)
           predicted[f].push_back(classifier.classify(sequenceOf(samples[t], model)));
@@ -683,6 +697,8 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
     }
     if (fold_accuracy)
       fold_accuracy->push_back(mine.accuracy());
+    if (fold_choices)
+      fold_choices->push_back(chosen[f]);
   }
   return all;
 }

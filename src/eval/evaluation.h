@@ -179,11 +179,14 @@ Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& mode
  * @param fold_pcas if given and params.use_pca: the fold's PCA bases, fitted on the first call
  *        (empty vector) and reused after, since the basis does not depend on F
  * @param jobs folds trained at once (threads)
+ * @param fold_choices if given, receives each tested fold's model's pyramid parameters: what its
+ *        cross-validation chose (C, mirror, posture, flow encoding)
  * @throws std::invalid_argument if a fold's training set contains a person of its test set
  */
 Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
                    const RecognitionParams& params, std::vector<double>* fold_accuracy = nullptr,
-                   std::vector<Pca>* fold_pcas = nullptr, int jobs = 1);
+                   std::vector<Pca>* fold_pcas = nullptr, int jobs = 1,
+                   std::vector<PyramidParams>* fold_choices = nullptr);
 
 /** @brief Sorted, de-duplicated copy. */
 std::vector<std::string> uniqueSorted(std::vector<std::string> v);

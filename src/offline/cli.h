@@ -379,7 +379,7 @@ inline RecognitionParams methodParams(const Args& a)
   p.pyramid.c = a.number("c", p.pyramid.c);
   p.pyramid.temporal_levels = static_cast<int>(a.integer("temporal-levels", p.pyramid.temporal_levels, 1, 4));
   if (a.has("no-posture"))
-    p.pyramid.posture = false;
+    p.pyramid.posture = PostureMode::Off;
   if (a.has("no-direction-histogram"))
     p.pyramid.flow = FlowEncoding::Sums;
   if (a.has("direction-histogram"))

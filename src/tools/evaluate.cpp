@@ -42,7 +42,7 @@ Options options()
       .value("train-persons", "a,b,...", "cross-subject and online msr: the training people (default "
                                          "s01,s03,s05,s07,s09); the others are tested")
       .value("variants", "v1,v2,...",
-             "of posture_flow, posture_flow_no_posture, posture_flow_no_geometry, posture_flow_sums, "
+             "of posture_flow, posture_flow_no_posture, posture_flow_choose_posture, posture_flow_no_geometry, posture_flow_sums, "
              "posture_flow_bins, posture_flow_single_level, posture_flow_no_pyramid, posture_flow_nn, "
              "posture_flow_no_mirror, posture_flow_mirror, meanflow, sumflow_raw, sumflow, sumflow_pca, joints (MSR "
              "Action3D only) (default: all; online: posture_flow and/or sumflow)")
@@ -223,7 +223,10 @@ VariantTable variantTable(const RecognitionParams& base)
   };
   return { { sum, mean, raw, pf }, {
     { "posture_flow", "posture_flow (default)", pf, 3 },
-    { "posture_flow_no_posture", "posture_flow without posture", ablation([](PyramidParams& p) { p.posture = false; }), 3 },
+    { "posture_flow_no_posture", "posture_flow without posture",
+      ablation([](PyramidParams& p) { p.posture = PostureMode::Off; }), 3 },
+    { "posture_flow_choose_posture", "posture_flow, posture chosen by cross-validation",
+      ablation([](PyramidParams& p) { p.posture = PostureMode::Choose; }), 3 },
     { "posture_flow_no_geometry", "posture_flow without the body geometry",
       ablation([](PyramidParams& p) { p.geometry = false; }), 3 },
     { "posture_flow_sums", "posture_flow, always signed flow sums",
@@ -338,10 +341,11 @@ json variantResults(const std::vector<Variant>& variants, const std::vector<Samp
   for (const auto& v : variants)
   {
     std::vector<double> fold_acc;
+    std::vector<PyramidParams> choices;
     const auto v0 = std::chrono::steady_clock::now();
     const Confusion c = v.name == "joints" ? jointBaseline(samples, folds, fold_acc)
                                            : runFolds(labelledSamples(samples, frames[v.extraction]), folds, v.params,
-                                                      &fold_acc, &fold_pcas, jobs);
+                                                      &fold_acc, &fold_pcas, jobs, &choices);
     double mean_fold = 0.0;
     for (double a : fold_acc)
       mean_fold += a / fold_acc.size();
@@ -355,6 +359,26 @@ json variantResults(const std::vector<Variant>& variants, const std::vector<Samp
                         { "pca_components", nullptr } });
     if (v.params.use_pca && !fold_pcas.empty())
       results.back()["pca_components"] = fold_pcas.front().outputSize();
+    if (v.name != "joints" && v.params.recognizer == Recognizer::PostureFlow &&
+        v.params.pyramid.classifier == PyramidClassifier::Linear)
+    {
+      // What each fold's cross-validation chose, and how often each choice was made.
+      json per_fold = json::array();
+      int posture = 0, mirror = 0, bins = 0;
+      for (const PyramidParams& p : choices)
+      {
+        per_fold.push_back({ { "c", p.c },
+                             { "mirror", paramText(p.mirror) },
+                             { "posture", paramText(p.posture) },
+                             { "flow", paramText(p.flow) } });
+        posture += p.posture == PostureMode::On;
+        mirror += p.mirror == MirrorMode::On;
+        bins += p.flow == FlowEncoding::Bins;
+      }
+      results.back()["fold_choices"] = per_fold;
+      std::printf("  %s: chosen in %zu folds: posture %d, mirrored copies %d, direction bins %d\n", v.name.c_str(),
+                  choices.size(), posture, mirror, bins);
+    }
     writeTextAtomically(dir + "/confusion_" + v.name + ".csv", confusionCsv(c));
     std::printf("%-58s accuracy %5.1f%%  (mean over folds %5.1f%%)\n", v.title.c_str(), 100 * c.accuracy(),
                 100 * mean_fold);

@@ -93,9 +93,12 @@ int main(int argc, char** argv)
                 model.classifier().classes().size(), static_cast<long>(model.descriptors.cols()),
                 model.pca.empty() ? "" : (" (PCA " + std::to_string(model.pca.outputSize()) + " per frame)").c_str());
     if (!model.linear.empty())
-      std::printf("train: linear classifier, C = %g (%s), mirrored training copies %s\n", model.params.pyramid.c,
+      std::printf("train: linear classifier, C = %g (%s), mirrored training copies %s, posture %s, flow as %s\n",
+                  model.params.pyramid.c,
                   params.pyramid.c > 0 ? "given" : "chosen by cross-validation over the training people",
-                  model.params.pyramid.mirror == MirrorMode::On ? "used" : "not used");
+                  model.params.pyramid.mirror == MirrorMode::On ? "used" : "not used",
+                  model.params.pyramid.posture == PostureMode::On ? "used" : "not used",
+                  model.params.pyramid.flow == FlowEncoding::Bins ? "direction bins" : "signed sums");
     return 0;
   });
 }

@@ -164,6 +164,9 @@ TEST(TemporalPyramid, SelectsTheParts)
   PyramidParams all;
   EXPECT_THROW(selectFrameFeatures(full, layout, all), std::invalid_argument) << "the encoding is not chosen yet";
   all.flow = FlowEncoding::Bins;
+  all.posture = PostureMode::Choose;
+  EXPECT_THROW(selectFrameFeatures(full, layout, all), std::invalid_argument) << "posture is not chosen yet";
+  all.posture = PostureMode::On;
   EXPECT_EQ(selectFrameFeatures(full, layout, all).size(), 511 + kGeometryValues);
   full.tail<kGeometryValues>().setConstant(0.25f);
   EXPECT_EQ(selectFrameFeatures(full, layout, all).tail<kGeometryValues>(),
@@ -172,7 +175,7 @@ TEST(TemporalPyramid, SelectsTheParts)
   EXPECT_EQ(selectFrameFeatures(full, layout, all).size(), 511);
   EXPECT_EQ(selectFrameFeatures(full, layout, all).head<7>(), full.head<7>());
   PyramidParams no_posture = all;
-  no_posture.posture = false;
+  no_posture.posture = PostureMode::Off;
   EXPECT_EQ(selectFrameFeatures(full, layout, no_posture).size(), 6 * 73);
   no_posture.geometry = true;
   EXPECT_EQ(selectFrameFeatures(full, layout, no_posture).size(), 6 * 73 + kGeometryValues);

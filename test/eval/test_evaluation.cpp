@@ -348,13 +348,17 @@ TEST(Experiments, ModelSelectionNeverSeesATestPerson)
 {
   PostureSet s = postureSet(5);
   const Fold fold = leaveOnePersonOut(s.persons)[0];  // tests p0
-  const ActionModel before = trainModel(s.samples, fold.train, defaultRecognitionParams());
+  RecognitionParams params = defaultRecognitionParams();
+  params.pyramid.posture = PostureMode::Choose;  // every setting that can be chosen is
+  const ActionModel before = trainModel(s.samples, fold.train, params);
   // Whatever the test person did, the chosen C and the weights stay the same.
   for (std::size_t t : fold.test)
     s.frames[t].descriptors = s.frames[t].descriptors.reverse() * 7.0f;
-  const ActionModel after = trainModel(s.samples, fold.train, defaultRecognitionParams());
+  const ActionModel after = trainModel(s.samples, fold.train, params);
   EXPECT_EQ(before.params.pyramid.c, after.params.pyramid.c);
   EXPECT_EQ(before.params.pyramid.mirror, after.params.pyramid.mirror);
+  EXPECT_EQ(before.params.pyramid.posture, after.params.pyramid.posture);
+  EXPECT_EQ(before.params.pyramid.flow, after.params.pyramid.flow);
   EXPECT_EQ(before.linear.weights(), after.linear.weights());
   EXPECT_EQ(before.linear.temperature(), after.linear.temperature());
   EXPECT_GT(before.linear.temperature(), 0.0) << "the probabilities are calibrated";
@@ -363,6 +367,67 @@ TEST(Experiments, ModelSelectionNeverSeesATestPerson)
   // The candidates are tried: C is one of them.
   EXPECT_NE(std::find(linearCandidates().begin(), linearCandidates().end(), before.params.pyramid.c),
             linearCandidates().end());
+}
+
+namespace
+{
+// Frames of one sample whose action shows in one finest cell, either as the share of the body's
+// points there (@p in_posture) or as upward flow there; with @p person_pose, every cell also holds
+// a large share of its own for this person doing this action (a build or habit that tells the
+// training people apart but says nothing about a new one).
+SampleFrames oneCueFrames(int action, bool in_posture, bool person_pose, unsigned seed)
+{
+  const PostureFlowDescriptor layout;
+  std::mt19937 rng(seed), pose_rng(seed / 10);  // seed / 10: one pose per person and action
+  std::uniform_real_distribution<float> noise(0.0f, 0.02f), pose(0.0f, 2.0f);
+  std::vector<float> shares(static_cast<std::size_t>(layout.cells(2)));
+  for (float& s : shares)
+    s = pose(pose_rng);
+  SampleFrames f;
+  f.descriptors.resize(8, layout.size());
+  for (int r = 0; r < 8; ++r)
+  {
+    for (int c = 0; c < layout.size(); ++c)
+      f.descriptors(r, c) = noise(rng);
+    for (int c = 0; person_pose && c < layout.cells(2); ++c)
+      f.descriptors(r, layout.offset(2) + kPostureFlowValuesPerCell * c) += shares[static_cast<std::size_t>(c)];
+    const int cell = layout.offset(2) + kPostureFlowValuesPerCell * (1 + 4 * action);
+    f.descriptors(r, cell + (in_posture ? 0 : 3)) += 0.3f;
+    f.stamps.push_back(r / 30.0);
+  }
+  return f;
+}
+}  // namespace
+
+// Posture is kept where it tells the actions apart and dropped where it tells only the training
+// people apart: the cross-validation inside the training people decides, and the model records it.
+TEST(Experiments, PostureIsChosenByCrossValidationInsideTheTrainingPeople)
+{
+  for (const bool posture_tells : { true, false })
+  {
+    std::vector<SampleFrames> frames;
+    std::vector<LabelledSample> samples;
+    const char* actions[] = { "wave", "kick", "punch" };
+    for (int p = 0; p < 6; ++p)
+      for (int a = 0; a < 3; ++a)
+        for (int rep = 0; rep < 2; ++rep)
+          frames.push_back(oneCueFrames(a, posture_tells, !posture_tells, 10u * (100u * p + 10u * a) + rep));
+    std::vector<std::size_t> rows;
+    for (int p = 0, i = 0; p < 6; ++p)
+      for (int a = 0; a < 3; ++a)
+        for (int rep = 0; rep < 2; ++rep, ++i)
+        {
+          samples.push_back({ "p" + std::to_string(p), actions[a], &frames[static_cast<std::size_t>(i)] });
+          rows.push_back(static_cast<std::size_t>(i));
+        }
+    RecognitionParams choose = defaultRecognitionParams();
+    choose.pyramid.posture = PostureMode::Choose;
+    const ActionModel m = trainModel(samples, rows, choose);
+    EXPECT_EQ(m.params.pyramid.posture, posture_tells ? PostureMode::On : PostureMode::Off)
+        << (posture_tells ? "the actions show only in the posture" : "the posture tells only the people apart");
+    EXPECT_EQ(trainModel(samples, rows, defaultRecognitionParams()).params.pyramid.posture, PostureMode::On)
+        << "the default keeps posture";
+  }
 }
 
 // Five overlapping classes (about 60% separable): the temperature fitted by chooseLinear on the
