@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Summarises a whole-pipeline benchmark folder written by the bench_player nodelet
 (launch/bench_pipeline.launch): writes summary.md (a table, with the issue's targets beside the
-figures) and bench_pipeline.png (resident memory and latency against the frame number), each
+figures, and each stage's latency against the people in view) and bench_pipeline.png (resident memory and latency against the frame number), each
 under a temporary name then renamed, and prints summary.md.
 
 usage: bench_pipeline_report.py OUTPUT_DIR
@@ -78,6 +78,40 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+def stage_table(folder):
+    """Per stage (stages.csv: its latency once a second, from /diagnostics), the mean latency and a
+    least-squares line against the mean number of tracks of the frames that arrived in that second:
+    what a stage costs per person in view is the growth of its slope over the stage before it."""
+    path = os.path.join(folder, "stages.csv")
+    if not os.path.exists(path):
+        return ""
+    arrived = [(float(r["arrived_s"]), int(r["tracks"]))
+               for r in read_csv(os.path.join(folder, "frames.csv")) if r["tracks"]]
+    per_stage = {}
+    for r in read_csv(path):
+        at = float(r["at_s"])
+        tracks = [k for t, k in arrived if at - 1.0 < t <= at]
+        if len(tracks) >= 10:  # a second with frames in it (not the start or the end)
+            per_stage.setdefault(r["stage"], []).append((sum(tracks) / len(tracks), float(r["latency_ms"])))
+    rows = []
+    for stage, pts in per_stage.items():
+        n = len(pts)
+        mx, my = sum(x for x, _ in pts) / n, sum(y for _, y in pts) / n
+        sxx = sum((x - mx) ** 2 for x, _ in pts)
+        slope = sum((x - mx) * (y - my) for x, y in pts) / sxx if n >= 5 and sxx > 0.05 * n else None
+        rows.append((my, stage, n, mx, slope, None if slope is None else my + slope * (1.0 - mx)))
+    if not rows:
+        return ""
+    rows.sort()
+    out = ["", "Per stage, from /diagnostics (latency = the stage's output time minus the frame's stamp, 1 s means; "
+           "the line is fitted over the seconds against the tracks in view):", "",
+           "| stage | seconds | mean tracks | mean latency (ms) | at 1 track (ms) | + per extra track (ms) |",
+           "|---|---|---|---|---|---|"]
+    out += ["| %s | %d | %.2f | %.1f | %s | %s |" % (stage, n, mx, my, fmt(one), fmt(slope, ".2f"))
+            for my, stage, n, mx, slope, one in rows]
+    return "\n".join(out) + "\n"
+
+
 def plot(folder):
     samples = read_csv(os.path.join(folder, "samples.csv"))
     frames = [r for r in read_csv(os.path.join(folder, "frames.csv")) if r["latency_ms"]]
@@ -112,14 +146,15 @@ def main():
             s = json.load(f)
     except (OSError, ValueError) as e:
         sys.exit(f"bench_pipeline_report: cannot read '{path}': {e}")
-    md = table(s)
+    md = table(s) + stage_table(folder)
     tmp = os.path.join(folder, "summary.md.tmp")
     with open(tmp, "w") as f:
         f.write(md)
     os.replace(tmp, os.path.join(folder, "summary.md"))
     plot(folder)
     print(md, end="")
-    print(f"(written: {folder}/summary.md, summary.json, samples.csv, frames.csv, labels.csv, bench_pipeline.png)")
+    print(f"(written: {folder}/summary.md, summary.json, samples.csv, frames.csv, labels.csv, stages.csv, "
+          "bench_pipeline.png)")
 
 
 if __name__ == "__main__":

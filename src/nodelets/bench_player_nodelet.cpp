@@ -6,6 +6,7 @@
 #include <action_flow/files.h>
 #include <action_flow/ActionLabel.h>
 #include <action_flow/ros/stage_types.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
 
 #include "../bench/stage_stats.h"
 
@@ -22,6 +23,8 @@
 #include <sys/resource.h>
 
 #include <atomic>
+#include <cmath>
+#include <cstdlib>
 #include <boost/algorithm/string.hpp>
 #include <condition_variable>
 #include <cstdio>
@@ -106,7 +109,8 @@ nlohmann::json percentiles(const bench::StageSamples& s)
  * million points it does not carry; each must be dropped by the checks and the next good frame
  * served) and `cloud_topic` (the tracker's input, camera/depth_registered/points_from_images).
  * Subscribes `states` (ActionStates) and `labels` (ActionLabel).
- * Writes into output_dir: summary.json, samples.csv, frames.csv, labels.csv.
+ * Writes into output_dir: summary.json, samples.csv, frames.csv, labels.csv, stages.csv (each
+ * stage's latency once a second, from /diagnostics).
  */
 class BenchPlayerNodelet : public nodelet::Nodelet
 {
@@ -201,6 +205,7 @@ private:
       cloud_pub_ = nh.advertise<sensor_msgs::PointCloud2>(cloud_topic_, 5);
     states_sub_ = nh.subscribe("states", 100, &BenchPlayerNodelet::onStates, this);
     labels_sub_ = nh.subscribe("labels", 100, &BenchPlayerNodelet::onLabel, this);
+    diagnostics_sub_ = nh.subscribe("/diagnostics", 50, &BenchPlayerNodelet::onDiagnostics, this);
     // Opened here and closed at unload, never on the player's thread: rosbag::Bag loads and unloads
     // its encryption plugin through class_loader, which crashed (SIGSEGV in unloadLibrary) when that
     // ran while the manager was loading the other nodelets.
@@ -325,6 +330,26 @@ private:
     r.track = label->track_id;
     r.label = label->label;
     labels_.push_back(r);
+  }
+
+  // Each stage's latency (its outputs' mean, now minus the frame's stamp, over the last second) as
+  // it reports it on /diagnostics (StageDiagnostics): what one stage adds is the difference to the
+  // stage before it, and how that grows with the people in view is what stages.csv is for.
+  void onDiagnostics(const diagnostic_msgs::DiagnosticArray::ConstPtr& array)
+  {
+    const double at = steadySeconds();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!measuring_)
+      return;
+    for (const auto& status : array->status)
+      for (const auto& kv : status.values)
+        if (kv.key == "latency mean (ms)")
+        {
+          char* end = nullptr;
+          const double ms = std::strtod(kv.value.c_str(), &end);
+          if (end != kv.value.c_str() && std::isfinite(ms) && ms > 0.0)
+            stage_latencies_.push_back({ at, boost::replace_all_copy(status.name, ",", ";"), ms });
+        }
   }
 
   // ---- the run ---------------------------------------------------------------------------------
@@ -651,6 +676,10 @@ private:
     const std::string frames_csv = framesCsv(t);
     const std::string labels_csv = labelsCsv(t);
     const std::string samples_csv = samplesCsv(t);
+    std::ostringstream stages_csv;
+    stages_csv << "at_s,stage,latency_ms\n";
+    for (const StageLatency& s : stage_latencies_)
+      stages_csv << s.at - start_wall_ << ',' << s.stage << ',' << s.ms << '\n';
     t.wall = end_wall_ > start_wall_ ? end_wall_ - start_wall_ : steadySeconds() - start_wall_;
     t.cpu = samples_.empty() ? 0.0 : samples_.back().cpu;
     const nlohmann::json j = summary(complete, why, t);
@@ -660,6 +689,7 @@ private:
     writeTextAtomically(dir + "frames.csv", frames_csv);
     writeTextAtomically(dir + "labels.csv", labels_csv);
     writeTextAtomically(dir + "samples.csv", samples_csv);
+    writeTextAtomically(dir + "stages.csv", stages_csv.str());
     // summary.json last: its presence means the rest is there.
     writeTextAtomically(dir + "summary.json", j.dump(2) + "\n");
     NODELET_INFO("bench_player: %zu of %zu frames processed in %.1f s (%.1f fps, %.2f cores), "
@@ -796,7 +826,7 @@ private:
   std::uint32_t width_ = 0, height_ = 0;
   ros::Publisher rgb_pub_, depth_pub_, info_pub_, cloud_pub_;
   std::size_t bad_sent_ = 0;  // the player thread's
-  ros::Subscriber states_sub_, labels_sub_;
+  ros::Subscriber states_sub_, labels_sub_, diagnostics_sub_;
   std::uint64_t last_stamp_us_ = 0;
 
   // shared with the callbacks (mutex_)
@@ -805,6 +835,13 @@ private:
   std::vector<Record> records_;
   std::map<std::uint64_t, std::size_t> pending_;  // stamp (us) -> record
   std::vector<LabelRecord> labels_;
+  struct StageLatency
+  {
+    double at;  // steady clock, s
+    std::string stage;
+    double ms;
+  };
+  std::vector<StageLatency> stage_latencies_;
   std::uint64_t last_arrived_us_ = 0;
   int arrivals_ = 0;
   std::size_t dropped_ = 0, warmup_dropped_ = 0, unknown_states_ = 0, out_of_order_ = 0;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -106,6 +107,23 @@ TEST(BenchPipeline, EveryFrameReachesTheClassifierInOrder)
   EXPECT_EQ(samples.back()[0], std::to_string(g_frames));
   for (const auto& r : samples)
     EXPECT_GT(std::stod(r[2]), 0.0) << "RSS";
+
+  // Each stage's latency once a second, from /diagnostics: every stage of the chain reports.
+  const auto stages = readCsv(g_output + "/stages.csv", header);
+  EXPECT_EQ(header, "at_s,stage,latency_ms");
+  std::map<std::string, int> seen;
+  for (const auto& r : stages)
+  {
+    ASSERT_EQ(r.size(), 3u);
+    const double at = std::stod(r[0]), ms = std::stod(r[2]);
+    EXPECT_GE(at, 0.0);
+    EXPECT_LE(at, s["wall_s"].get<double>() + 1.0);
+    EXPECT_TRUE(std::isfinite(ms) && ms > 0.0) << r[1] << ": " << ms;
+    ++seen[r[1]];
+  }
+  for (const char* stage : { "people_tracker: people tracker", "flow: flow", "descriptor: descriptor",
+                             "classifier: classifier" })
+    EXPECT_GE(seen[stage], 1) << "no latency from " << stage << " in stages.csv";
 }
 
 int main(int argc, char** argv)
