@@ -108,7 +108,7 @@ nlohmann::json percentiles(const bench::StageSamples& s)
  * intrinsics, a depth step beyond its data, and a PointCloud2 on `cloud_topic` that claims a
  * million points it does not carry; each must be dropped by the checks and the next good frame
  * served) and `cloud_topic` (the tracker's input, camera/depth_registered/points_from_images).
- * Subscribes `states` (ActionStates) and `labels` (ActionLabel).
+ * Subscribes `states` (ActionStates), `labels` (ActionLabel) and /diagnostics (each stage's latency).
  * Writes into output_dir: summary.json, samples.csv, frames.csv, labels.csv, stages.csv (each
  * stage's latency once a second, from /diagnostics).
  */
