@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <nodelet/nodelet.h>
 #include <pluginlib/class_list_macros.hpp>
+#include <ros/package.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -91,6 +92,19 @@ nlohmann::json percentiles(const bench::StageSamples& s)
   }
   return { { "count", s.size() }, { "median", s.median() }, { "p95", s.p95() }, { "min", min }, { "max", max } };
 }
+
+/** @p path relative to this package's folder when it lies inside it (build/...), else as given. */
+std::string packageRelative(const std::string& path)
+{
+  namespace fs = std::filesystem;
+  const std::string root = ros::package::getPath("action_flow");
+  if (root.empty())
+    return path;
+  std::error_code error;
+  const fs::path rel = fs::weakly_canonical(path, error).lexically_relative(fs::weakly_canonical(root, error));
+  return error || rel.empty() || *rel.begin() == ".." ? path : rel.string();
+}
+
 }  // namespace
 
 /**
@@ -763,7 +777,10 @@ private:
     j["mode"] = mode_;
     j["rate_hz"] = mode_ == "rate" ? nlohmann::json(rate_) : nlohmann::json(nullptr);
     j["in_flight"] = in_flight_;
-    j["bags"] = bag_paths_;
+    std::vector<std::string> bags;  // results files are kept in the project: no one machine's layout
+    for (const auto& path : bag_paths_)
+      bags.push_back(packageRelative(path));
+    j["bags"] = bags;
     j["bag_frames"] = frames_in_memory_.size();
     j["bag_images_mb"] = bag_bytes_ / 1e6;
     j["width"] = width_;

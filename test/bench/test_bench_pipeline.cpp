@@ -3,6 +3,7 @@
 // the classifier, in order, with a positive finite latency. No timing thresholds.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <ros/package.h>
 #include <ros/ros.h>
 
 #include <cmath>
@@ -60,6 +61,11 @@ TEST(BenchPipeline, EveryFrameReachesTheClassifierInOrder)
     EXPECT_TRUE(s.contains(key)) << "summary.json lacks " << key;
   ASSERT_TRUE(s.value("complete", false)) << s.value("error", std::string());
   EXPECT_EQ(s["mode"], "max");
+  // Results are kept in the project: a bag inside the package is recorded relative to it.
+  const std::string package = ros::package::getPath("action_flow");
+  ASSERT_FALSE(package.empty());
+  for (const auto& bag : s["bags"])
+    EXPECT_NE(bag.get<std::string>().rfind(package + "/", 0), 0u) << bag << " under " << package;
   EXPECT_EQ(s["frames_requested"].get<int>(), g_frames);
   EXPECT_EQ(s["frames_published"].get<int>(), g_frames);
   EXPECT_EQ(s["frames_processed"].get<int>(), g_frames) << "frames lost in a closed loop";
