@@ -7,7 +7,9 @@ under a temporary name then renamed, and prints summary.md.
 usage: bench_pipeline_report.py OUTPUT_DIR
 
 Exits 1 with one line on stderr when the folder has no complete summary.json."""
+import bisect
 import csv
+import itertools
 import json
 import os
 import sys
@@ -85,14 +87,16 @@ def stage_table(folder):
     path = os.path.join(folder, "stages.csv")
     if not os.path.exists(path):
         return ""
-    arrived = [(float(r["arrived_s"]), int(r["tracks"]))
-               for r in read_csv(os.path.join(folder, "frames.csv")) if r["tracks"]]
+    arrived = sorted((float(r["arrived_s"]), int(r["tracks"]))
+                     for r in read_csv(os.path.join(folder, "frames.csv")) if r["tracks"])
+    times = [t for t, _ in arrived]
+    summed = list(itertools.accumulate((k for _, k in arrived), initial=0))  # tracks of the first i frames
     per_stage = {}
     for r in read_csv(path):
         at = float(r["at_s"])
-        tracks = [k for t, k in arrived if at - 1.0 < t <= at]
-        if len(tracks) >= 10:  # a second with frames in it (not the start or the end)
-            per_stage.setdefault(r["stage"], []).append((sum(tracks) / len(tracks), float(r["latency_ms"])))
+        lo, hi = bisect.bisect_right(times, at - 1.0), bisect.bisect_right(times, at)  # frames in (at - 1, at]
+        if hi - lo >= 10:  # a second with frames in it (not the start or the end)
+            per_stage.setdefault(r["stage"], []).append(((summed[hi] - summed[lo]) / (hi - lo), float(r["latency_ms"])))
     rows = []
     for stage, pts in per_stage.items():
         n = len(pts)

@@ -133,4 +133,12 @@ std::vector<ActionWindow> actionWindows(const std::vector<TruthSegment>& truth, 
   return spread(found, w.per_stream);
 }
 
+std::size_t noActionCount(const std::vector<LabelledSample>& labelled, std::size_t first)
+{
+  std::size_t n = 0;
+  for (std::size_t i = first; i < labelled.size(); ++i)
+    n += labelled[i].action == kNoActionLabel;
+  return n;
+}
+
 }  // namespace action_flow

@@ -74,4 +74,7 @@ struct ActionWindow
 std::vector<ActionWindow> actionWindows(const std::vector<TruthSegment>& truth, const SampleFrames& stream,
                                         const ActionWindows& w);
 
+/** @brief How many of @p labelled, from @p first on, are labelled no_action. */
+std::size_t noActionCount(const std::vector<LabelledSample>& labelled, std::size_t first = 0);
+
 }  // namespace action_flow

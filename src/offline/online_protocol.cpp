@@ -104,6 +104,31 @@ std::set<std::string> tuningPeople(const Args& args, const std::vector<std::stri
   return std::set<std::string>(people.end() - n, people.end());
 }
 
+/** The actions an MSR stream draws from: @p trained, or empty when that is all 20. */
+std::vector<std::string> msrPool(const std::vector<std::string>& trained)
+{
+  std::vector<std::string> pool = uniqueSorted(trained);
+  if (pool.size() == synth::msrActions().size())
+    pool.clear();  // all of them
+  return pool;
+}
+
+/**
+ * One continuous stream of each of @p persons (training people: the tuning streams, and the sources
+ * of the no-action and action windows), of @p count actions; --synth msr: drawn from @p pool.
+ */
+std::vector<synth::SampleSpec> oneStreamEach(const Args& args, const std::vector<std::string>& persons, int count,
+                                             std::uint64_t seed, const std::vector<std::string>& pool)
+{
+  if (args.get("synth") == "msr")
+    return synth::msrStreamSamples(args.get("msr-dir"), persons, 1, count, seed, pool);
+  std::vector<synth::SampleSpec> out;
+  for (const auto& p : persons)
+    for (const auto& s : synth::streamSamples(personNumber(p), 1, 1, count, seed))
+      out.push_back(s);
+  return out;
+}
+
 /**
  * --synth ias: trains on every sample given; tunes on one stream of each tuning person; tests on
  * the streams of --stream-people new actors after the training people.
@@ -125,7 +150,7 @@ OnlineSet iasSet(const Args& args, const std::vector<SampleRef>& samples, int st
   if (last + stream_people > 99)
     throw UsageError("--stream-people: new actors would go past p99");
   for (const auto& p : out.people)
-    for (const auto& s : synth::streamSamples(personNumber(p), 1, 1, actions, seed))
+    for (const auto& s : oneStreamEach(args, { p }, actions, seed, {}))
       (out.tuners.count(p) ? out.tuning : out.no_action).push_back(s);
   out.test = synth::streamSamples(last + 1, stream_people, streams, actions, seed);
   for (const auto& s : out.test)
@@ -164,18 +189,14 @@ OnlineSet msrSet(const Args& args, const std::vector<SampleRef>& samples, int st
   if (out.test_people.empty())
     throw UsageError("--protocol online: every MSR subject is in --train-persons; none is left to test on");
   out.tuners = tuningPeople(args, out.people);
-  std::vector<std::string> pool = uniqueSorted(trained);
-  if (pool.size() == synth::msrActions().size())
-    pool.clear();  // all of them
-  const std::string folder = args.get("msr-dir");
-  out.tuning = synth::msrStreamSamples(folder, std::vector<std::string>(out.tuners.begin(), out.tuners.end()), 1,
-                                       actions, seed, pool);
+  const std::vector<std::string> pool = msrPool(trained);
+  out.tuning = oneStreamEach(args, std::vector<std::string>(out.tuners.begin(), out.tuners.end()), actions, seed, pool);
   std::vector<std::string> others;
   for (const auto& p : out.people)
     if (!out.tuners.count(p))
       others.push_back(p);
-  out.no_action = synth::msrStreamSamples(folder, others, 1, actions, seed, pool);
-  out.test = synth::msrStreamSamples(folder, out.test_people, streams, actions, seed, pool);
+  out.no_action = oneStreamEach(args, others, actions, seed, pool);
+  out.test = synth::msrStreamSamples(args.get("msr-dir"), out.test_people, streams, actions, seed, pool);
   return out;
 }
 
@@ -487,15 +508,6 @@ void addStreamWindows(const std::vector<StreamCase>& streams, const std::vector<
   }
 }
 
-/** How many of @p labelled from @p first on are labelled no_action. */
-std::size_t noActionCount(const std::vector<LabelledSample>& labelled, std::size_t first)
-{
-  std::size_t n = 0;
-  for (std::size_t i = first; i < labelled.size(); ++i)
-    n += labelled[i].action == kNoActionLabel;
-  return n;
-}
-
 /** The persons of the streams [first, first + n) of the run. */
 std::vector<std::string> streamPersons(const OnlineStreams& streams, std::size_t first, std::size_t n)
 {
@@ -609,17 +621,9 @@ std::size_t appendStreamWindows(const Args& args, const std::vector<SampleRef>& 
     actions.push_back(s.action);
   }
   persons = uniqueSorted(persons);
-  actions = uniqueSorted(actions);
   const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1000000000));
   const int count = static_cast<int>(args.integer("stream-actions", 8, 2, 40));
-  std::vector<synth::SampleSpec> specs;
-  if (dataset == "ias")
-    for (const auto& p : persons)
-      for (const auto& s : synth::streamSamples(personNumber(p), 1, 1, count, seed))
-        specs.push_back(s);
-  else
-    specs = synth::msrStreamSamples(args.get("msr-dir"), persons, 1, count, seed,
-                                    actions.size() == synth::msrActions().size() ? std::vector<std::string>() : actions);
+  const std::vector<synth::SampleSpec> specs = oneStreamEach(args, persons, count, seed, msrPool(actions));
   std::vector<SampleRef> refs;
   for (const auto& s : specs)
     refs.push_back(renderedSample(s));

@@ -1,6 +1,7 @@
 // train: a dataset (bags listed in an index, or the virtual Kinect rendering in-process) in, a
 // model file out. Same code path as the live pipeline: tracker -> flow -> frame descriptor ->
 // sequence descriptor -> classifier.
+#include "../eval/no_action.h"
 #include "../offline/cli.h"
 #include "../offline/extraction.h"
 #include "../offline/online_protocol.h"
@@ -81,9 +82,7 @@ int main(int argc, char** argv)
     if (counts.no_action > 0 || counts.action > 0)
     {
       const std::size_t added = appendStreamWindows(args, samples, counts, params, labelled, rows, windows);
-      std::size_t idle = 0;
-      for (const LabelledSample& s : labelled)
-        idle += s.action == kNoActionLabel;
+      const std::size_t idle = noActionCount(labelled);
       std::fprintf(stderr, "train: %zu no-action samples, %zu action windows from the streams\n", idle, added - idle);
     }
     const ActionModel model = trainModel(labelled, rows, params);
