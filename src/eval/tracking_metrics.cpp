@@ -145,12 +145,28 @@ double TrackingScores::switchesPerPersonMinute() const
   return person_seconds > 0 ? double(id_switches) / (person_seconds / 60.0) : 0.0;
 }
 
-TrackingScores scoreTracking(const std::vector<TrackingFrame>& frames, float gate, double frame_seconds)
+std::vector<std::vector<int>> matchTracking(const std::vector<TrackingFrame>& frames, float gate)
 {
   if (!(gate > 0.0f) || !std::isfinite(gate))
     throw std::invalid_argument("scoreTracking: the gate must be a positive distance");
+  std::vector<std::vector<int>> out(frames.size());
+  std::map<std::uint32_t, std::uint32_t> last_match;  // truth id -> track of its last match
+  for (std::size_t k = 0; k < frames.size(); ++k)
+  {
+    checkFrame(frames[k], k);
+    out[k] = matchFrame(frames[k], last_match, gate);
+    for (std::size_t i = 0; i < frames[k].truth.size(); ++i)
+      if (out[k][i] >= 0 && !frames[k].truth[i].ignored)
+        last_match[frames[k].truth[i].id] = frames[k].predicted[size_t(out[k][i])].id;
+  }
+  return out;
+}
+
+TrackingScores scoreTracking(const std::vector<TrackingFrame>& frames, float gate, double frame_seconds)
+{
   if (!(frame_seconds >= 0.0) || !std::isfinite(frame_seconds))
     throw std::invalid_argument("scoreTracking: the frame duration must be >= 0");
+  const std::vector<std::vector<int>> matches = matchTracking(frames, gate);
   TrackingScores s;
   s.frames = frames.size();
   std::map<std::uint32_t, std::uint32_t> last_match;   // truth id -> track of its last match
@@ -161,8 +177,7 @@ TrackingScores scoreTracking(const std::vector<TrackingFrame>& frames, float gat
   for (std::size_t k = 0; k < frames.size(); ++k)
   {
     const TrackingFrame& f = frames[k];
-    checkFrame(f, k);
-    const std::vector<int> pred_of = matchFrame(f, last_match, gate);
+    const std::vector<int>& pred_of = matches[k];
     std::vector<char> dropped(f.predicted.size(), 0), used(f.predicted.size(), 0);
     for (std::size_t i = 0; i < f.truth.size(); ++i)
     {

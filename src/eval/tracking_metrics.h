@@ -80,6 +80,15 @@ struct TrackingScores
  */
 TrackingScores scoreTracking(const std::vector<TrackingFrame>& frames, float gate, double frame_seconds);
 
+/**
+ * @brief The matches scoreTracking makes, frame by frame: per frame, for each truth object (in the
+ *        frame's order) the index of the prediction matched to it, or -1. Ignored truth is matched
+ *        too (a track on a hidden person is that person's), but only counted truth carries a match
+ *        on to the next frame, as in scoreTracking.
+ * @throws std::invalid_argument as scoreTracking
+ */
+std::vector<std::vector<int>> matchTracking(const std::vector<TrackingFrame>& frames, float gate);
+
 /** @brief Sums the counts of two scored sequences (ids of different sequences count apart). */
 TrackingScores addTrackingScores(const TrackingScores& a, const TrackingScores& b);
 

@@ -534,11 +534,18 @@ std::vector<PosedBody> CrowdRenderer::bodies(int i) const
   return out;
 }
 
-void CrowdRenderer::renderImages(int i, FrameImages& out) const
+void CrowdRenderer::renderImages(int i, FrameImages& out, std::uint8_t only) const
 {
   if (i < 0 || i >= impl_->frames)
     throw std::out_of_range("frame " + std::to_string(i) + " outside [0, " + std::to_string(impl_->frames) + ")");
-  impl_->scene->render(bodies(i), impl_->noise_seed, i, out);
+  if (only > impl_->people.size())
+    throw std::invalid_argument("CrowdRenderer::renderImages: no person has mask id " + std::to_string(only) +
+                                " (the scene has " + std::to_string(impl_->people.size()) + ")");
+  std::vector<PosedBody> posed = bodies(i);
+  if (only != 0)
+    posed.erase(std::remove_if(posed.begin(), posed.end(), [&](const PosedBody& b) { return b.id != only; }),
+                posed.end());
+  impl_->scene->render(posed, impl_->noise_seed, i, out);
 }
 
 void CrowdRenderer::render(int i, Cloud& out, std::vector<std::uint8_t>* mask) const

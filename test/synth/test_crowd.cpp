@@ -202,3 +202,41 @@ TEST(Crowd, SameSpecSameFrames)
   EXPECT_EQ(ia.rgb, ib.rgb);
   EXPECT_THROW(a.renderImages(120, ia), std::out_of_range);
 }
+
+TEST(Crowd, OnePersonAloneIsTheSameSceneWithoutTheOthers)
+{
+  const CrowdRenderer crowd(scene(3, 1, 20.0));
+  FrameImages everyone, alone;
+  int compared = 0;
+  for (int i = 0; i < crowd.frames(); i += 131)
+  {
+    crowd.renderImages(i, everyone);
+    for (const CrowdTruth& t : crowd.truth(i, everyone))
+    {
+      if (!t.counted)
+        continue;
+      crowd.renderImages(i, alone, t.mask_id);
+      int own_everyone = 0, own_alone = 0, unmasked_equal = 0, unmasked = 0;
+      for (size_t p = 0; p < alone.mask.size(); ++p)
+      {
+        ASSERT_TRUE(alone.mask[p] == 0 || alone.mask[p] == t.mask_id) << "frame " << i << ": another person drawn";
+        own_everyone += everyone.mask[p] == t.mask_id;
+        own_alone += alone.mask[p] == t.mask_id;
+        if (everyone.mask[p] == 0 && alone.mask[p] == 0)
+        {
+          ++unmasked;
+          const bool both_nan = std::isnan(everyone.depth[p]) && std::isnan(alone.depth[p]);
+          unmasked_equal += both_nan || everyone.depth[p] == alone.depth[p];
+        }
+      }
+      // Alone, nobody hides them: at least what was seen of them with the others, and the room
+      // around is the same room (the same noise, the same pixels; shadows of the others aside).
+      EXPECT_GE(own_alone, own_everyone) << "frame " << i << " person " << int(t.mask_id);
+      EXPECT_GT(own_alone, 0);
+      EXPECT_GT(double(unmasked_equal), 0.9 * unmasked) << "frame " << i;
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 3);
+  EXPECT_THROW(crowd.renderImages(0, alone, 9), std::invalid_argument) << "nobody has mask id 9";
+}

@@ -94,8 +94,13 @@ public:
   /** @brief The bodies present at frame @p i, for SceneRenderer (mask id = CrowdPerson::mask_id). */
   std::vector<PosedBody> bodies(int i) const;
 
-  /** @brief Frame @p i as images; FrameImages::mask holds each pixel's person (mask id, 0 = none). */
-  void renderImages(int i, FrameImages& out) const;
+  /**
+   * @brief Frame @p i as images; FrameImages::mask holds each pixel's person (mask id, 0 = none).
+   *        With @p only a mask id, that person alone is rendered (the same scene without the others:
+   *        what recognition would see of them alone).
+   * @throws std::out_of_range outside the frames, std::invalid_argument if @p only is nobody's id
+   */
+  void renderImages(int i, FrameImages& out, std::uint8_t only = 0) const;
   /** @brief Frame @p i as an organized cloud (as SampleRenderer::render) and, if asked, the mask. */
   void render(int i, Cloud& out, std::vector<std::uint8_t>* mask = nullptr) const;
   /** @brief The truth of every person present at frame @p i, from that frame's @p images. */
