@@ -313,8 +313,10 @@ json writeExamples(const std::vector<SceneOutcome>& scenes, const std::string& d
 void addDetectionOptions(Options& o)
 {
   o.group("detection protocol (--protocol detection: the people tracker, default parameters, on cluttered rooms)")
-      .value("scenes", "N", "scenes of each kind (default 10; synth --dataset clutter)")
-      .value("gate", "M", "a detection within M metres of a person on the floor finds them (default 0.5)")
+      .value("scenes", "N", "scenes of each kind (default 10; synth --dataset clutter); crowd: scenes per people "
+                            "count (default 4)")
+      .value("gate", "M", "a detection within M metres of a person on the floor finds them (default 0.5; crowd: "
+                          "a track is theirs)")
       .value("remove-walls", "0|1", "change this person-likeness cue from its default (to measure it)")
       .value("max-head-ratio", "R", "likewise")
       .value("min-free-fraction", "F", "likewise");

@@ -44,7 +44,8 @@ const ExtractedTrack* performer(const std::vector<std::pair<std::uint32_t, Extra
 }  // namespace
 
 std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams& tracker_params,
-                                        const std::vector<RecognitionParams>& variants, bool all_tracks)
+                                        const std::vector<RecognitionParams>& variants, bool all_tracks,
+                                        const std::function<void(double, const TrackerResult&)>& observe)
 {
   for (const auto& v : variants)
     if (v.flow.max_gap != variants.front().flow.max_gap)
@@ -66,6 +67,8 @@ std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams
   while (source.next(cloud, stamp))
   {
     const TrackerResult result = tracker.update(cloud, stamp);
+    if (observe)
+      observe(stamp, result);
     auto frame = live.begin(stamp, result.reset, result.lost);
     if (frame.cleared)
       tracks.clear();

@@ -10,6 +10,7 @@
 #include "../eval/evaluation.h"
 #include <action_flow/people_tracker.h>
 
+#include <functional>
 #include <vector>
 
 namespace action_flow
@@ -31,9 +32,12 @@ public:
  *        tracker may lose the performer and find them again under a new id, as it would live).
  * @param variants parameter sets to extract at once (e.g. SUMFLOW and MEANFLOW), on the person
  *        clouds of @p tracker (at its person_voxel_size)
+ * @param observe if given, called with every frame's stamp and the tracker's output for it (the
+ *        people where they were: the crowd protocol matches tracks to people with it)
  * @throws std::invalid_argument if the variants' flow/max_gap differ
  */
 std::vector<SampleFrames> extractSample(FrameSource& source, const TrackerParams& tracker,
-                                        const std::vector<RecognitionParams>& variants, bool all_tracks = false);
+                                        const std::vector<RecognitionParams>& variants, bool all_tracks = false,
+                                        const std::function<void(double, const TrackerResult&)>& observe = {});
 
 }  // namespace action_flow

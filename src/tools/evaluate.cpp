@@ -8,6 +8,8 @@
 #include "../offline/detection_protocol.h"
 #include "../offline/online_protocol.h"
 #include "../offline/sample_sources.h"
+#include "../offline/crowd_protocol.h"
+#include "../offline/variant_report.h"
 
 #include <action_flow/files.h>
 #include <action_flow/synth/skeleton.h>
@@ -31,10 +33,10 @@ Options options()
 {
   Options o("usage: evaluate --output DIR (--index INDEX.csv | --synth ias|msr [sample options]) [options]");
   o.value("output", "DIR", "where the report, confusion matrices and pictures go")
-      .value("protocol", "lopo|cross-subject|cross-view|online|detection",
+      .value("protocol", "lopo|cross-subject|cross-view|online|crowd|detection",
              "leave-one-person-out (default), train on --train-persons, train on people facing the camera and "
-             "test others seen from the side and behind, labels on continuous streams of new people, or the "
-             "people tracker alone (see below)")
+             "test others seen from the side and behind, labels on continuous streams of new people, several "
+             "new people at once against each alone, or the people tracker alone (see below)")
       .value("views", "a,b,...", "cross-view: the test views, degrees from frontal (default 45,90,135,180)")
       .value("test-repetitions", "R", "cross-view: repetitions of each test person's actions (default 1)")
       .value("train-spread", "DEG", "cross-view: the training people face the camera +- DEG (default 15; 180 = seen "
@@ -54,17 +56,13 @@ Options options()
       .flag("allow-empty", "keep samples in which nobody was tracked (as still frames) instead of refusing them");
   addSampleOptions(o);
   addOnlineOptions(o);
+  addCrowdOptions(o);
   addDetectionOptions(o);
   addMethodOptions(o);
   return o;
 }
 
-struct Variant
-{
-  std::string name, title;
-  RecognitionParams params;
-  std::size_t extraction;  // which extracted descriptor set it reads
-};
+using Variant = RecognizerVariant;
 
 // The joint-position baseline's frames of one MSR Action3D skeleton file: per tracked frame the 20
 // joints relative to the hip centre and their velocities, both divided by the body's size (the
@@ -154,45 +152,6 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
   return all;
 }
 
-json confusionJson(const Confusion& c)
-{
-  json per_class = json::object();
-  const auto p = c.precision(), r = c.recall();
-  const auto s = c.support();
-  for (std::size_t i = 0; i < c.labels.size(); ++i)
-    per_class[c.labels[i]] = { { "precision", p[i] }, { "recall", r[i] }, { "support", s[i] } };
-  const Reliability& rel = c.reliability;
-  json bins = json::array();
-  for (int b = 0; b < Reliability::kBins; ++b)
-    bins.push_back({ { "count", rel.count[b] },
-                     { "correct", rel.correct[b] },
-                     { "confidence", rel.count[b] ? rel.confidence_sum[b] / rel.count[b] : 0.0 } });
-  return { { "labels", c.labels },
-           { "matrix", c.counts },
-           { "per_class", per_class },
-           { "reliability",
-             { { "answers", rel.total() },
-               { "mean_confidence", rel.meanConfidence() },
-               { "expected_calibration_error", rel.expectedCalibrationError() },
-               { "bins", bins } } } };
-}
-
-std::string confusionCsv(const Confusion& c)
-{
-  std::string out = "truth\\predicted";
-  for (const auto& l : c.labels)
-    out += "," + l;
-  out += "\n";
-  for (std::size_t i = 0; i < c.labels.size(); ++i)
-  {
-    out += c.labels[i];
-    for (int n : c.counts[i])
-      out += "," + std::to_string(n);
-    out += "\n";
-  }
-  return out;
-}
-
 }  // namespace
 
 // Every variant evaluate knows, and the frame descriptor sets they read.
@@ -250,13 +209,13 @@ VariantTable variantTable(const RecognitionParams& base)
     { "joints", "joint-position baseline (skeleton files, not clouds)", pf, 0 } } };
 }
 
-// The variants --variants names (default: all, the joint baseline only for MSR Action3D).
-std::vector<Variant> selectVariants(const std::vector<Variant>& all, const Args& args)
+// The variants --variants names (default: @p names, or all, the joint baseline only for MSR Action3D).
+std::vector<Variant> selectVariants(const std::vector<Variant>& all, const Args& args, std::string names = "")
 {
   std::vector<Variant> variants;
-  std::string names;
+  const bool every = names.empty();
   for (const auto& v : all)
-    if (v.name != "joints" || args.get("synth") == "msr")
+    if (every && (v.name != "joints" || args.get("synth") == "msr"))
       names += (names.empty() ? "" : ",") + v.name;
   const auto wanted = splitList(args.get("variants", names));
   for (const auto& w : wanted)
@@ -328,7 +287,7 @@ std::vector<Fold> protocolFolds(const std::string& protocol, const std::vector<s
     return { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
   if (protocol == "cross-view")
     return crossViewFolds(cross_view);
-  throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, cross-view, online or detection)");
+  throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, cross-view, online, crowd or detection)");
 }
 
 // Each variant over the folds: its accuracy, per-fold accuracies, confusion matrix (also written
@@ -513,6 +472,9 @@ int main(int argc, char** argv)
     if (args.get("protocol") == "online")
       return runOnlineProtocol(args, e.samples, args.get("output"));
     const VariantTable table = variantTable(e.base);
+    if (args.get("protocol") == "crowd")  // the default and the paper's, unless --variants
+      return runCrowdProtocol(args, e.samples, table.extractions,
+                              selectVariants(table.all, args, "posture_flow,sumflow_pca"), args.get("output"));
     const std::vector<Variant> variants = selectVariants(table.all, args);
     installInterruptHandler();
     const std::vector<std::string> persons = personsOf(e.samples);

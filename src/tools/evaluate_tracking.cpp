@@ -2,6 +2,7 @@
 // benchmarks score trackers (MOTA, IDF1, id switches; tracking_metrics.h). See docs/evaluation.md,
 // "Several people: tracking".
 #include "../offline/cli.h"
+#include "../offline/crowd_protocol.h"
 #include "../offline/plot_script.h"
 #include "../offline/extraction.h"
 
@@ -148,20 +149,6 @@ json toJson(const TrackingScores& s)
            { "id_switches_per_person_minute", s.switchesPerPersonMinute() } };
 }
 
-std::vector<int> peopleList(const std::string& text)
-{
-  std::vector<int> out;
-  for (const std::string& item : tools::splitList(text))
-  {
-    if (item.size() != 1 || item[0] < '2' || item[0] > '5')
-      throw tools::UsageError("--people takes counts 2..5 separated by commas, got '" + text + "'");
-    out.push_back(item[0] - '0');
-  }
-  if (out.empty())
-    throw tools::UsageError("--people takes counts 2..5 separated by commas, got '" + text + "'");
-  return out;
-}
-
 /** Runs the scenes on @p jobs threads, printing a line per scene done. */
 std::vector<SceneResult> runAll(const std::vector<synth::SampleSpec>& specs, float gate, const TrackerParams& params,
                                 int jobs)
@@ -254,7 +241,7 @@ int run(int argc, char** argv)
   const tools::Args args(argc, argv, o);
   if (args.has("help"))
     return o.printHelp();
-  const std::vector<int> people = peopleList(args.get("people", "3"));
+  const std::vector<int> people = tools::crowdPeopleList(args.get("people", "3"), "--people");
   const int scenes = int(args.integer("scenes", 3, 1, 999));
   const double seconds = double(args.integer("seconds", 60, 2, 3600));
   const std::uint64_t seed = std::uint64_t(args.integer("seed", 1, 0, 2147483647));

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 #include <sys/wait.h>
+#include <vector>
 
 namespace
 {
@@ -287,4 +288,79 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   const Result bad = run(kBin + "/evaluate --synth ias --protocol online --stream-actions 1 --output '" + out + "'");
   EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
   EXPECT_NE(bad.output.find("--stream-actions"), std::string::npos) << bad.output;
+}
+
+TEST(Tools, CrowdProtocolScoresEachNewPersonAloneAndAmongOthers)
+{
+  // evaluate --protocol crowd end to end, small: a model of 2 training actors (every action once),
+  // one 12 s scene of 2 new actors (p03, p04: scene 1 would be the training people), each action
+  // recognised with the person alone in view and with both in view.
+  const std::string out = tempDir("crowd"), cache = tempDir("crowd_cache");
+  const Result r = run(kBin + "/evaluate --synth ias --people 2 --repetitions 1 --protocol crowd --crowd-people 2" +
+                       " --crowd-seconds 12 --scenes 1 --variants posture_flow --no-plots --output '" + out +
+                       "' --cache '" + cache + "' --jobs 2");
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream in(out + "/crowd.json");
+  ASSERT_TRUE(in.good()) << "no crowd.json: " << r.output;
+  const nlohmann::json report = nlohmann::json::parse(in);
+  EXPECT_EQ(report["training"]["people"], (std::vector<std::string>{ "p01", "p02" }));
+  ASSERT_EQ(report["scenes"].size(), 1u);
+  EXPECT_EQ(report["scenes"][0]["actors"], "p03+p04") << "the scene's actors are none of the training people";
+  ASSERT_EQ(report["variants"].size(), 1u);
+  const nlohmann::json& v = report["variants"][0];
+  const int segments = v["segments"];
+  EXPECT_GE(segments, 2) << "a 12 s scene holds a few actions of each person";
+  int per_person = 0;
+  for (const auto& p : v["per_person"])
+  {
+    per_person += p["segments"].get<int>();
+    const std::string who = p["person"];
+    EXPECT_TRUE(who == "crowd2_2/p03" || who == "crowd2_2/p04") << who;
+  }
+  EXPECT_EQ(per_person, segments);
+  for (const char* key : { "alone", "together" })
+  {
+    EXPECT_GE(v[key].get<double>(), 0.0) << key;
+    EXPECT_LE(v[key].get<double>(), 1.0) << key;
+  }
+  EXPECT_NEAR(v["difference"].get<double>(), v["together"].get<double>() - v["alone"].get<double>(), 1e-9);
+  // Both confusion matrices count every scored action once, "untracked" included.
+  for (const char* key : { "alone_confusion", "together_confusion" })
+  {
+    int total = 0;
+    for (const auto& row : v[key]["matrix"])
+      for (int n : row)
+        total += n;
+    EXPECT_EQ(total, segments) << key;
+    EXPECT_EQ(v[key]["labels"].back(), "untracked");
+  }
+  // One line per scored action; alone, one person at 1-5 m in an empty room is always followed.
+  std::ifstream csv(out + "/segments.csv");
+  std::string line;
+  std::getline(csv, line);
+  int lines = 0;
+  while (std::getline(csv, line))
+  {
+    ++lines;
+    std::vector<std::string> fields;
+    for (std::size_t at = 0, comma; at <= line.size(); at = comma + 1)
+    {
+      comma = std::min(line.find(',', at), line.size());
+      fields.push_back(line.substr(at, comma - at));
+    }
+    ASSERT_EQ(fields.size(), 13u) << line;
+    EXPECT_NE(fields[9], "untracked") << line;  // the label alone
+    EXPECT_NE(fields[11], "0") << line;         // the track alone
+  }
+  EXPECT_EQ(lines, segments);
+  std::ifstream matrix(out + "/crowd_confusion_posture_flow_together.csv");
+  EXPECT_TRUE(matrix.good());
+
+  // Usage errors name what was wrong.
+  const Result count = run(kBin + "/evaluate --synth ias --protocol crowd --crowd-people 7 --output '" + out + "'");
+  EXPECT_EQ(WEXITSTATUS(count.status), 2) << count.output;
+  EXPECT_NE(count.output.find("--crowd-people"), std::string::npos) << count.output;
+  const Result joints = run(kBin + "/evaluate --synth ias --protocol crowd --variants joints --output '" + out + "'");
+  EXPECT_EQ(WEXITSTATUS(joints.status), 2) << joints.output;
+  EXPECT_NE(joints.output.find("joint"), std::string::npos) << joints.output;
 }
