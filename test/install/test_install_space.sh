@@ -141,7 +141,7 @@ else fail libraries_resolve_in_prefix "$problems"; fi
 
 # ---- scripts -------------------------------------------------------------------------------------
 start
-USER_SCRIPTS="label_bag.py stream_labels.py plot_report.py plot_timeline.py plot_tracks.py plot_detection.py bench_pipeline_report.py results_table.py validate_report.py"
+USER_SCRIPTS="label_bag.py stream_labels.py plot_report.py plot_timeline.py plot_tracks.py plot_detection.py plot_crowd.py bench_pipeline_report.py results_table.py validate_report.py"
 SOURCE_TREE_SCRIPTS="setup test demo fuzz run_experiments bench_pipeline test_summary.py"
 problems=""
 for s in $USER_SCRIPTS; do
@@ -155,7 +155,7 @@ for f in "$SRC"/scripts/*; do
     *) problems+="scripts/$s is executable but neither installed (the top CMakeLists.txt) nor a source-tree script (this test's list); " ;;
   esac
 done
-for s in plot_report.py plot_timeline.py plot_tracks.py plot_detection.py; do  # evaluate runs <package path>/scripts/<s>
+for s in plot_report.py plot_timeline.py plot_tracks.py plot_detection.py plot_crowd.py; do  # evaluate runs <package path>/scripts/<s>
   [ -f "$PREFIX/share/action_flow/scripts/$s" ] || problems+="share/action_flow/scripts/$s (read by evaluate) is missing; "
 done
 for s in label_bag.py stream_labels.py; do
