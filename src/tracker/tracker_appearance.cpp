@@ -43,8 +43,20 @@ float Appearance::colourDistance(const Appearance& other) const
 {
   if (frames_ == 0 || other.frames_ == 0)
     return 1.0f;
-  const float bc = (colours_.cwiseProduct(other.colours_)).cwiseSqrt().sum();
-  return std::sqrt(std::max(0.0f, 1.0f - std::min(1.0f, bc)));
+  // In double, over the histograms' own sums: the float histograms sum to 1 only to a few ulps, and
+  // the square root turns a BC of 1 - 1e-7 into a distance of 3e-4 (its order depended on how the sum
+  // was vectorised).
+  double bc = 0.0, sum_a = 0.0, sum_b = 0.0;
+  for (Eigen::Index i = 0; i < colours_.size(); ++i)
+  {
+    bc += std::sqrt(double(colours_[i]) * double(other.colours_[i]));
+    sum_a += colours_[i];
+    sum_b += other.colours_[i];
+  }
+  if (!(sum_a > 0.0 && sum_b > 0.0))
+    return 1.0f;
+  bc /= std::sqrt(sum_a * sum_b);
+  return float(std::sqrt(std::max(0.0, 1.0 - std::min(1.0, bc))));
 }
 
 }  // namespace action_flow
