@@ -257,6 +257,102 @@ struct Tally
              { "difference", acc(together) - acc(alone) } };
   }
 };
+/** Trains @p v on every training sample, scores every action of the crowd scenes' people alone and
+ *  together (@p e: the extraction index of the passes' rows it reads), writes its confusion matrices
+ *  to @p dir, adds its lines to @p csv and returns its report entry. */
+json scoreVariant(const RecognizerVariant& v, std::size_t e, const std::vector<SampleRef>& samples,
+                  const std::vector<std::vector<SampleFrames>>& train_frames,
+                  const std::vector<synth::SampleSpec>& scenes, const std::vector<std::vector<synth::CrowdPerson>>& people,
+                  const std::vector<const Pass*>& together,
+                  const std::map<std::pair<std::size_t, std::uint8_t>, const Pass*>& alone, const std::string& dir,
+                  std::string& csv)
+{
+  std::vector<LabelledSample> labelled;
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < samples.size(); ++i)
+  {
+    labelled.push_back({ samples[i].person, samples[i].action, &train_frames[v.extraction][i] });
+    rows.push_back(i);
+  }
+  const ActionModel model = trainModel(labelled, rows, v.params);
+  const SequenceClassifier classifier = model.classifier();
+  std::vector<std::string> labels = classifier.classes();
+  labels.push_back(kUntracked);
+  Confusion alone_confusion(labels), together_confusion(labels);
+  Tally all;
+  std::map<std::string, Tally> by_person, by_action;
+  int not_shown = 0, not_trained = 0;
+  for (std::size_t s = 0; s < scenes.size(); ++s)
+    for (const synth::CrowdPerson& person : people[s])
+      for (const synth::StreamSegment& seg : person.segments)
+      {
+        const Pass& solo = *alone.at({ s, person.mask_id });
+        if (seg.last >= int(solo.counted.size()) || seg.first > seg.last)
+          continue;  // past the scene's end
+        if (std::find(labels.begin(), labels.end() - 1, seg.action) == labels.end() - 1)
+        {
+          ++not_trained;
+          continue;
+        }
+        ScoredSegment r;
+        r.scene = s;
+        r.actor = person.actor;
+        r.segment = { person.mask_id, seg.action, seg.first, seg.last };
+        r.shown_alone = share(solo.counted, seg.first, seg.last);
+        r.shown_together = share(together[s]->counted_of.at(person.mask_id), seg.first, seg.last);
+        if (r.shown_alone < kShownShare)
+        {
+          ++not_shown;
+          continue;
+        }
+        r.alone = recognise(solo, e, r.segment, model, classifier, r.alone_track);
+        r.together = recognise(*together[s], e, r.segment, model, classifier, r.together_track);
+        alone_confusion.add(seg.action, r.alone);
+        together_confusion.add(seg.action, r.together);
+        all.add(r);
+        by_person[scenes[s].name() + "/" + person.actor].add(r);
+        by_action[seg.action].add(r);
+        char line[512];
+        std::snprintf(line, sizeof line, "%s,%s,%s,%d,%s,%d,%d,%.3f,%.3f,%s,%s,%u,%u\n", v.name.c_str(),
+                      scenes[s].name().c_str(), person.actor.c_str(), int(person.mask_id), seg.action.c_str(),
+                      seg.first, seg.last, r.shown_alone, r.shown_together, r.alone.c_str(), r.together.c_str(),
+                      r.alone_track, r.together_track);
+        csv += line;
+      }
+  json per_person = json::array(), per_action = json::object();
+  for (const auto& [who, t] : by_person)
+  {
+    json j = t.toJson();
+    j["person"] = who;
+    per_person.push_back(j);
+  }
+  for (const auto& [a, t] : by_action)
+    per_action[a] = t.toJson();
+  int alone_untracked = 0, together_untracked = 0;
+  for (std::size_t t = 0; t + 1 < labels.size(); ++t)
+  {
+    alone_untracked += alone_confusion.counts[t].back();
+    together_untracked += together_confusion.counts[t].back();
+  }
+  json r = all.toJson();
+  r["variant"] = v.name;
+  r["title"] = v.title;
+  r["alone_untracked"] = alone_untracked;
+  r["together_untracked"] = together_untracked;
+  r["segments_not_shown"] = not_shown;
+  r["segments_not_trained"] = not_trained;
+  r["per_person"] = per_person;
+  r["per_action"] = per_action;
+  r["alone_confusion"] = confusionJson(alone_confusion);
+  r["together_confusion"] = confusionJson(together_confusion);
+  writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_alone.csv", confusionCsv(alone_confusion));
+  writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_together.csv", confusionCsv(together_confusion));
+  std::printf("%-40s %d actions: alone %5.1f%%, together %5.1f%% (%+.1f points); untracked %d alone, %d together\n",
+              v.title.c_str(), all.segments, 100.0 * r["alone"].get<double>(), 100.0 * r["together"].get<double>(),
+              100.0 * r["difference"].get<double>(), alone_untracked, together_untracked);
+  return r;
+}
+
 }  // namespace
 
 void addCrowdOptions(Options& o)
@@ -334,93 +430,8 @@ int runCrowdProtocol(const Args& args, const std::vector<SampleRef>& samples,
   std::string csv = "variant,scene,actor,person,action,first,last,shown_alone,shown_together,alone,together,"
                     "alone_track,together_track\n";
   for (const auto& v : variants)
-  {
-    const std::size_t e = std::size_t(std::find(used.begin(), used.end(), v.extraction) - used.begin());
-    std::vector<LabelledSample> labelled;
-    std::vector<std::size_t> rows;
-    for (std::size_t i = 0; i < samples.size(); ++i)
-    {
-      labelled.push_back({ samples[i].person, samples[i].action, &train_frames[v.extraction][i] });
-      rows.push_back(i);
-    }
-    const ActionModel model = trainModel(labelled, rows, v.params);
-    const SequenceClassifier classifier = model.classifier();
-    std::vector<std::string> labels = classifier.classes();
-    labels.push_back(kUntracked);
-    Confusion alone_confusion(labels), together_confusion(labels);
-    Tally all;
-    std::map<std::string, Tally> by_person, by_action;
-    int not_shown = 0, not_trained = 0;
-    for (std::size_t s = 0; s < scenes.size(); ++s)
-      for (const synth::CrowdPerson& person : people[s])
-        for (const synth::StreamSegment& seg : person.segments)
-        {
-          const Pass& solo = *alone.at({ s, person.mask_id });
-          if (seg.last >= int(solo.counted.size()) || seg.first > seg.last)
-            continue;  // past the scene's end
-          if (std::find(labels.begin(), labels.end() - 1, seg.action) == labels.end() - 1)
-          {
-            ++not_trained;
-            continue;
-          }
-          ScoredSegment r;
-          r.scene = s;
-          r.actor = person.actor;
-          r.segment = { person.mask_id, seg.action, seg.first, seg.last };
-          r.shown_alone = share(solo.counted, seg.first, seg.last);
-          r.shown_together = share(together[s]->counted_of.at(person.mask_id), seg.first, seg.last);
-          if (r.shown_alone < kShownShare)
-          {
-            ++not_shown;
-            continue;
-          }
-          r.alone = recognise(solo, e, r.segment, model, classifier, r.alone_track);
-          r.together = recognise(*together[s], e, r.segment, model, classifier, r.together_track);
-          alone_confusion.add(seg.action, r.alone);
-          together_confusion.add(seg.action, r.together);
-          all.add(r);
-          by_person[scenes[s].name() + "/" + person.actor].add(r);
-          by_action[seg.action].add(r);
-          char line[512];
-          std::snprintf(line, sizeof line, "%s,%s,%s,%d,%s,%d,%d,%.3f,%.3f,%s,%s,%u,%u\n", v.name.c_str(),
-                        scenes[s].name().c_str(), person.actor.c_str(), int(person.mask_id), seg.action.c_str(),
-                        seg.first, seg.last, r.shown_alone, r.shown_together, r.alone.c_str(), r.together.c_str(),
-                        r.alone_track, r.together_track);
-          csv += line;
-        }
-    json per_person = json::array(), per_action = json::object();
-    for (const auto& [who, t] : by_person)
-    {
-      json j = t.toJson();
-      j["person"] = who;
-      per_person.push_back(j);
-    }
-    for (const auto& [a, t] : by_action)
-      per_action[a] = t.toJson();
-    int alone_untracked = 0, together_untracked = 0;
-    for (std::size_t t = 0; t + 1 < labels.size(); ++t)
-    {
-      alone_untracked += alone_confusion.counts[t].back();
-      together_untracked += together_confusion.counts[t].back();
-    }
-    json r = all.toJson();
-    r["variant"] = v.name;
-    r["title"] = v.title;
-    r["alone_untracked"] = alone_untracked;
-    r["together_untracked"] = together_untracked;
-    r["segments_not_shown"] = not_shown;
-    r["segments_not_trained"] = not_trained;
-    r["per_person"] = per_person;
-    r["per_action"] = per_action;
-    r["alone_confusion"] = confusionJson(alone_confusion);
-    r["together_confusion"] = confusionJson(together_confusion);
-    results.push_back(r);
-    writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_alone.csv", confusionCsv(alone_confusion));
-    writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_together.csv", confusionCsv(together_confusion));
-    std::printf("%-40s %d actions: alone %5.1f%%, together %5.1f%% (%+.1f points); untracked %d alone, %d together\n",
-                v.title.c_str(), all.segments, 100.0 * r["alone"].get<double>(), 100.0 * r["together"].get<double>(),
-                100.0 * r["difference"].get<double>(), alone_untracked, together_untracked);
-  }
+    results.push_back(scoreVariant(v, std::size_t(std::find(used.begin(), used.end(), v.extraction) - used.begin()),
+                                   samples, train_frames, scenes, people, together, alone, dir, csv));
   const json report = { { "protocol", "crowd" },
                         { "training", { { "samples", samples.size() },
                                         { "people", std::vector<std::string>(training_people.begin(), training_people.end()) } } },
