@@ -285,18 +285,28 @@ std::vector<SceneOutcome> runAll(const std::vector<synth::SampleSpec>& specs, co
   return out;
 }
 
-// The example frames: per kind the first scene whose example shows an error, else its first scene.
-json writeExamples(const std::vector<SceneOutcome>& scenes, const std::string& dir)
+// The example frames: per kind the first scene whose example shows an error, else its first scene;
+// with @p every, each scene's (the first frame with an error, else its middle one).
+json writeExamples(const std::vector<SceneOutcome>& scenes, const std::string& dir, bool every)
 {
-  json out = json::array();
-  for (const std::string& kind : synth::clutterKinds())
+  std::vector<const SceneOutcome*> picks;
+  if (every)
+    for (const auto& s : scenes)
+      picks.push_back(s.example_frame >= 0 ? &s : nullptr);
+  for (const std::string& kind : every ? std::vector<std::string>() : synth::clutterKinds())
   {
     const SceneOutcome* pick = nullptr;
     for (const auto& s : scenes)
       if (s.kind == kind && s.example_frame >= 0 && (!pick || (s.example_has_error && !pick->example_has_error)))
         pick = &s;
+    picks.push_back(pick);
+  }
+  json out = json::array();
+  for (const SceneOutcome* pick : picks)
+  {
     if (!pick)
       continue;
+    const std::string& kind = pick->kind;
     const synth::CameraModel cam;
     cv::Mat rgb(cam.height, cam.width, CV_8UC3, const_cast<std::uint8_t*>(pick->example_rgb.data())), bgr;
     cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
@@ -319,7 +329,9 @@ void addDetectionOptions(Options& o)
                           "a track is theirs)")
       .value("remove-walls", "0|1", "change this person-likeness cue from its default (to measure it)")
       .value("max-head-ratio", "R", "likewise")
-      .value("min-free-fraction", "F", "likewise");
+      .value("min-free-fraction", "F", "likewise")
+      .value("scene", "NAME[,NAME...]", "only these scenes (e.g. wall_03; to look at one closely)")
+      .flag("every-example", "write every scene's example frame (the first with an error), not one per kind");
 }
 
 int runDetectionProtocol(const Args& args, const std::string& dir)
@@ -338,7 +350,19 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
   const bool defaults = params.remove_walls == TrackerParams().remove_walls &&
                         params.max_head_ratio == TrackerParams().max_head_ratio &&
                         params.min_free_fraction == TrackerParams().min_free_fraction;
-  const std::vector<synth::SampleSpec> specs = synth::clutterSamples(per_kind, seed);
+  std::vector<synth::SampleSpec> specs = synth::clutterSamples(per_kind, seed);
+  if (args.has("scene"))
+  {
+    const std::string wanted = "," + args.get("scene") + ",";
+    std::vector<synth::SampleSpec> picked;
+    for (const auto& s : specs)
+      if (wanted.find("," + s.name() + ",") != std::string::npos)
+        picked.push_back(s);
+    if (picked.empty())
+      throw UsageError("--scene: no scene " + args.get("scene") + " among the " + std::to_string(specs.size()) +
+                       " of --scenes " + std::to_string(per_kind));
+    specs.swap(picked);
+  }
   std::fprintf(stderr, "evaluate: detection on %zu clutter scenes (%d of each kind), gate %.2f m\n", specs.size(),
                per_kind, gate);
   const std::vector<SceneOutcome> scenes = runAll(specs, params, gate, jobs);
@@ -383,7 +407,7 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
                   { "by_floor_visible", tallyJson(by_floor) },
                   { "false_positives_on", false_on },
                   { "misses_by_cause", miss_causes },
-                  { "examples", writeExamples(scenes, dir) },
+                  { "examples", writeExamples(scenes, dir, args.has("every-example")) },
                   { "scenes", per_scene } };
   writeTextAtomically(dir + "/detection.json", report.dump(2) + "\n");
   std::printf("detection, %s, %zu scenes, %ld frames: precision %.3f, recall %.3f (%ld true, %ld false, "

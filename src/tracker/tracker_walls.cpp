@@ -59,10 +59,22 @@ bool bestPlane(const Cloud& points, const pcl::Indices& sample, const Eigen::Vec
   }
   return most >= 3;
 }
+
+// How far along the wall (horizontally) the points of the image's top edge lie on @p plane: the wall
+// goes on above the view over that length.
+float lengthAtTopEdge(const std::vector<Eigen::Vector3f>& image_top, const Eigen::Vector4f& plane,
+                      const Eigen::Vector3f& along, float inlier_distance)
+{
+  std::vector<float> s;
+  for (const auto& q : image_top)
+    if (std::abs(plane.head<3>().dot(q) + plane[3]) < inlier_distance)
+      s.push_back(along.dot(q));
+  return spread(std::move(s));
+}
 }  // namespace
 
 std::vector<Eigen::Vector4f> findWalls(const Cloud& points, const Eigen::Vector4f& ground, const Eigen::Vector3f& camera,
-                                       const WallParams& p)
+                                       const WallParams& p, const std::vector<Eigen::Vector3f>& image_top)
 {
   const Eigen::Vector3f up = ground.head<3>();
   std::vector<Eigen::Vector4f> walls;
@@ -103,7 +115,8 @@ std::vector<Eigen::Vector4f> findWalls(const Cloud& points, const Eigen::Vector4
     }
     float top = 0.0f;
     const float width = spread(s), height = spread(h, &top);
-    if (width < p.min_width || height < p.min_height || top < p.min_top ||
+    if (width < p.min_width || height < p.min_height ||
+        (top < p.min_top && lengthAtTopEdge(image_top, plane, along, p.inlier_distance) < p.min_width) ||
         static_cast<float>(inliers.size()) * p.voxel * p.voxel < p.min_cover * width * height)
       continue;
     // A wall bounds the room: (almost) nothing lies behind it. A plane strung through the room has

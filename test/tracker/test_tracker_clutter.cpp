@@ -189,3 +189,77 @@ TEST(TrackerWalls, FindsTheRoomsWallsAndNoFurniture)
   }
   EXPECT_TRUE(back) << "the back wall was not found";
 }
+
+// A low camera sees the wall close behind a person only up to 1.9-2.05 m, not to the 2.1 m
+// that tells a wall from a row of people: it is a wall because it goes on above the image's top edge.
+// Without that, the person joined the wall's cluster and was missed (the clutter scenes' largest cause
+// of misses).
+TEST(TrackerClutter, AWallCutByTheImagesTopEdgeBehindAPersonFromALowCameraGivesThePerson)
+{
+  const synth::SampleRenderer actor(standing("p02"));
+  for (const float gap : {0.2f, 0.3f})
+    for (const double height : {0.65, 0.75})
+    {
+      SCOPED_TRACE("wall " + std::to_string(gap) + " m behind, camera " + std::to_string(height) + " m high");
+      synth::Room room = emptyRoom();
+      room.back_wall = 3.0f + gap;
+      synth::CameraModel cam;
+      cam.height_above_floor = height;
+      cam.tilt = 0.05;  // pitched down 3 degrees: the person's head is in view
+      const synth::SceneRenderer scene(cam, room);
+      const Eigen::Isometry3f world = cam.worldFromOptical();
+      // The wall's top in view is below 2.1 m (what this test is about).
+      const Eigen::Vector3f top_ray = world.linear() * Eigen::Vector3f(0.0f, -static_cast<float>(cam.cy / cam.fy), 1.0f);
+      ASSERT_LT(height + (room.back_wall - world.translation().x()) * top_ray.z() / top_ray.x(), 2.1);
+      PeopleTracker tracker;
+      int found = 0;
+      for (int k = 0; k < 8; ++k)
+      {
+        const TrackerResult r = tracker.update(renderCloud(scene, {standingAt(actor, k, 3.0f, 0.3f)}, k), 0.1 * k);
+        if (k == 0)
+          continue;
+        ASSERT_LE(r.people.size(), 1u) << "frame " << k;
+        found += r.people.size() == 1 &&
+                 ((world * r.people[0].position).head<2>() - Eigen::Vector2f(3.0f, 0.3f)).norm() < 0.3f;
+      }
+      EXPECT_EQ(found, 7);
+    }
+}
+
+// What is not a body cannot start a person: a head-and-shoulders shape hanging in the air (0.55 m
+// from its top to its bottom: a raised hand and forearm split off their body look so to the
+// clustering), a post 0.12 m wide and 1.9 m tall (a sliver of a shelf's side seen edge-on).
+TEST(TrackerClutter, AShapeInTheAirOrASliverStartsNoPerson)
+{
+  synth::Material wood;
+  wood.base = synth::Rgb(0.5f, 0.33f, 0.18f);
+  const auto box = [&](float y, float z, float half_y, float half_z) {
+    synth::Box b;
+    b.material = wood;
+    b.center = Eigen::Vector3f(3.0f, y, z);
+    b.half = Eigen::Vector3f(0.1f, half_y, half_z);
+    return b;
+  };
+  for (const bool sliver : {false, true})
+  {
+    SCOPED_TRACE(sliver ? "a sliver" : "a shape in the air");
+    synth::Room room = emptyRoom();
+    room.back_wall = 5.5f;  // beyond the Kinect's depth: nothing behind
+    if (sliver)
+      room.boxes.push_back(box(0.2f, 0.95f, 0.06f, 0.95f));
+    else
+    {
+      room.boxes.push_back(box(0.2f, 1.25f, 0.3f, 0.1f));    // shoulders, 1.15-1.35 m
+      room.boxes.push_back(box(0.2f, 1.525f, 0.1f, 0.175f));  // a head above them, to 1.7 m
+    }
+    synth::CameraModel cam;
+    const synth::SceneRenderer scene(cam, room);
+    PeopleTracker tracker;
+    for (int k = 0; k < 6; ++k)
+    {
+      const TrackerResult r = tracker.update(renderCloud(scene, {}, k), 0.1 * k);
+      EXPECT_EQ(r.detections, 0u) << "frame " << k;
+      EXPECT_TRUE(r.people.empty()) << "frame " << k;
+    }
+  }
+}
