@@ -98,6 +98,11 @@ struct TrackerParams
    *  required of it either (HOG wants upright people). */
   float tracked_min_height = 0.7f;
   float tracked_max_width = 1.8f;
+  /** ... and only if its colours are within this distance of the track's (the Hellinger distance of
+   *  tracker_appearance.h's colour histograms; needs reid_after > 0, which keeps the appearance): a
+   *  chair or table beside a person whose detection is missing for a frame is then not taken for
+   *  them. 1 turns it off. */
+  float weak_max_colour_distance = 0.35f;
 
   // ---- added against cluttered rooms (evaluate --protocol detection) ----
   /** Walls (vertical planes at least 0.6 m wide and 1.2 m tall reaching 2.1 m above the ground, with
@@ -170,6 +175,7 @@ struct TrackerParams
     v("free_depth_step", p.free_depth_step, "m: the depth step around a free-standing head", s);
     v("tracked_min_height", p.tracked_min_height, "m: a confirmed track continues on clusters this low", s);
     v("tracked_max_width", p.tracked_max_width, "m: ... and this wide", s);
+    v("weak_max_colour_distance", p.weak_max_colour_distance, "... and colours this close to the track's (Hellinger, 0-1; 1 = off)", s);
     v("remove_walls", p.remove_walls, "remove walls before clustering", s);
     v("max_head_ratio", p.max_head_ratio, "a new person's head width / shoulder width at most (0 = off)", s);
     v("hidden_lost_after", p.hidden_lost_after, "s: a track hidden behind a nearer person is kept this long", s);

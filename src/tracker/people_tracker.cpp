@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace action_flow
@@ -53,6 +54,8 @@ constexpr float kReidSpeed = 2.0f;
 // How fast an unseen track's gate widens (m/s), up to twice the gate: where a hidden person comes
 // back out is less certain the longer they were hidden.
 constexpr float kGateGrowth = 0.5f;
+// A weak detection's colours are read from every this-many-th of its points (thousands).
+constexpr std::size_t kColourStride = 4;
 // Half the width of a person's shadow (m) at the person's own distance: a body about 0.5 m wide
 // plus the hidden person's half width.
 constexpr float kShadowHalfWidth = 0.45f;
@@ -77,15 +80,18 @@ bool inShadowOf(const Eigen::Vector3f& hidden, const Eigen::Vector3f& front, con
 /**
  * The association costs: horizontal distance between each track's prediction and each detection
  * (a person bending is still the same person), in units of the track's gate (wider while unseen;
- * the plain @p gate for a weak detection), so that solveAssignment gates them at 1. A weak detection
- * (a body bending, crouching, kicking; or failing HOG) only continues a confirmed track: it neither
+ * the plain gate for a weak detection), so that solveAssignment gates them at 1. A weak detection
+ * (a body bending, crouching, kicking; or failing HOG) only continues a confirmed track, and only one
+ * whose colours it has (TrackerParams::weak_max_colour_distance, points of @p cloud): it neither
  * confirms a tentative one nor starts one, and a track back from hiding takes only a person-like
  * detection beyond the plain gate.
  */
 Eigen::MatrixXf associationCosts(const std::vector<Track>& tracks, const std::vector<PersonDetection>& people,
-                                 const Eigen::Vector3f& up, double stamp, float gate)
+                                 const Cloud& cloud, const Eigen::Vector3f& up, double stamp, const TrackerParams& params)
 {
+  const float gate = params.gate;
   Eigen::MatrixXf cost(tracks.size(), people.size());
+  std::vector<std::optional<Appearance::Histogram>> colours(people.size());  // weak detections', when needed
   for (std::size_t i = 0; i < tracks.size(); ++i)
   {
     const float unseen = static_cast<float>(stamp - tracks[i].last_seen);
@@ -95,6 +101,15 @@ Eigen::MatrixXf associationCosts(const std::vector<Track>& tracks, const std::ve
       const Eigen::Vector3f d = people[j].centroid - tracks[i].filter.position();
       cost(i, j) = people[j].weak && tracks[i].id == 0 ? 2.0f + 1e3f
                                                        : (d - d.dot(up) * up).norm() / (people[j].weak ? gate : wide);
+      // A weak detection that does not look like the track is something else beside them.
+      if (people[j].weak && cost(i, j) < 1.0f && tracks[i].appearance.frames() > 0 &&
+          params.weak_max_colour_distance < 1.0f)
+      {
+        if (!colours[j])
+          colours[j] = Appearance::histogram(cloud, people[j].indices, kColourStride);
+        if (tracks[i].appearance.colourDistance(*colours[j]) > params.weak_max_colour_distance)
+          cost(i, j) = 2.0f + 1e3f;
+      }
     }
   }
   return cost;
@@ -341,7 +356,7 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
 
   // Gated optimal assignment on the ground.
   const Eigen::Vector3f up = det.ground_valid ? Eigen::Vector3f(det.ground.head<3>()) : Eigen::Vector3f::Zero();
-  const std::vector<int> match = solveAssignment(associationCosts(s.tracks, det.people, up, stamp, params_.gate), 1.0f);
+  const std::vector<int> match = solveAssignment(associationCosts(s.tracks, det.people, cloud, up, stamp, params_), 1.0f);
   const std::vector<int> seen = s.updateTracks(det.people, match, stamp, camera_origin, up, params_, result.lost);
 
   for (std::size_t i = 0; i < s.tracks.size(); ++i)

@@ -5,26 +5,46 @@
 
 namespace action_flow
 {
-Appearance::Histogram Appearance::histogram(const Cloud& cloud)
+namespace
 {
-  Histogram chroma = Histogram::Zero(), bright = Histogram::Zero();
-  const auto bin = [](float v, int n) { return std::min(n - 1, std::max(0, static_cast<int>(v * n))); };
-  for (const PointT& p : cloud.points)
+// The histogram of the points @p point(k) gives for k < n (see Appearance).
+template <typename PointAt>
+Appearance::Histogram histogramOf(std::size_t n, const PointAt& point)
+{
+  constexpr int kChroma = Appearance::kChromaBins, kBright = Appearance::kBrightnessBins;
+  Appearance::Histogram chroma = Appearance::Histogram::Zero(), bright = Appearance::Histogram::Zero();
+  const auto bin = [](float v, int bins) { return std::min(bins - 1, std::max(0, static_cast<int>(v * bins))); };
+  for (std::size_t k = 0; k < n; ++k)
   {
+    const PointT& p = point(k);
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       continue;
     const float sum = static_cast<float>(p.r) + p.g + p.b;
-    bright(kChromaBins * kChromaBins + bin(sum / (3.0f * 256.0f), kBrightnessBins)) += 1.0f;
+    bright(kChroma * kChroma + bin(sum / (3.0f * 256.0f), kBright)) += 1.0f;
     if (sum >= 30.0f)
-      chroma(bin(p.r / sum, kChromaBins) * kChromaBins + bin(p.g / sum, kChromaBins)) += 1.0f;
+      chroma(bin(p.r / sum, kChroma) * kChroma + bin(p.g / sum, kChroma)) += 1.0f;
   }
-  Histogram out = Histogram::Zero();
+  Appearance::Histogram out = Appearance::Histogram::Zero();
   const float c = chroma.sum(), b = bright.sum();
   if (b > 0.0f)
     out += (c > 0.0f ? 0.5f : 1.0f) * bright / b;
   if (c > 0.0f)
     out += 0.5f * chroma / c;
   return out;
+}
+}  // namespace
+
+Appearance::Histogram Appearance::histogram(const Cloud& cloud)
+{
+  return histogramOf(cloud.size(), [&](std::size_t k) -> const PointT& { return cloud.points[k]; });
+}
+
+Appearance::Histogram Appearance::histogram(const Cloud& cloud, const pcl::Indices& indices, std::size_t stride)
+{
+  stride = std::max<std::size_t>(1, stride);
+  return histogramOf((indices.size() + stride - 1) / stride, [&](std::size_t k) -> const PointT& {
+    return cloud.points[static_cast<std::size_t>(indices[k * stride])];
+  });
 }
 
 void Appearance::add(const Cloud& cloud, float height) { add(histogram(cloud), height); }
@@ -37,6 +57,13 @@ void Appearance::add(const Histogram& h, float height)
   const float w = std::max(1.0f / static_cast<float>(frames_), 0.1f);
   colours_ = (1.0f - w) * colours_ + w * h;
   height_ = (1.0f - w) * height_ + w * height;
+}
+
+float Appearance::colourDistance(const Histogram& colours) const
+{
+  Appearance one;
+  one.add(colours, 0.0f);
+  return colourDistance(one);
 }
 
 float Appearance::colourDistance(const Appearance& other) const

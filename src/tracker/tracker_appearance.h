@@ -6,6 +6,7 @@
 #pragma once
 
 #include <action_flow/types.h>
+#include <pcl/types.h>
 
 #include <Eigen/Core>
 
@@ -28,6 +29,8 @@ public:
 
   /** @brief The histogram of @p cloud's finite points (sums to 1; all zero for no point). */
   static Histogram histogram(const Cloud& cloud);
+  /** @brief The histogram of the finite points of @p cloud at @p indices, every @p stride-th. */
+  static Histogram histogram(const Cloud& cloud, const pcl::Indices& indices, std::size_t stride = 1);
 
   /** @brief Adds one frame: a running mean of the first 10 frames, then an exponential mean
    *         (weight 0.1) that follows a person turning or taking off a jacket. */
@@ -38,6 +41,8 @@ public:
   /** @brief The Hellinger distance of the colour histograms: 0 for the same, 1 for disjoint ones
    *         (and 1 when either has not been seen). */
   float colourDistance(const Appearance& other) const;
+  /** @brief The same against one frame's histogram (histogram()); 1 when either is empty. */
+  float colourDistance(const Histogram& colours) const;
 
   float height() const { return height_; }
   int frames() const { return frames_; }

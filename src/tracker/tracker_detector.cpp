@@ -192,43 +192,6 @@ float freeFraction(const Cloud& cloud, const PersonDetection& d, const Eigen::Ve
   return static_cast<float>(free_rows) / static_cast<float>(rows.size());
 }
 
-// Share of the head's image columns (those whose topmost pixel of the detection lies in its top
-// kHeadDepth) right above which something nearer by at least @p step is seen, 3 and 6 pixels up: the
-// detection's top there is hidden, not a head's. A head has background above it; the part of a shelf
-// seen below a person's raised arm has the arm.
-float occludedTopFraction(const Cloud& cloud, const PersonDetection& d, const Eigen::Vector4f& ground,
-                          const Eigen::Vector3f& origin, float step)
-{
-  const int w = static_cast<int>(cloud.width);
-  std::unordered_map<int, int> top_of_column;  // column -> the detection's topmost index there
-  for (const auto i : d.indices)
-  {
-    const int u = static_cast<int>(i) % w;
-    const auto it = top_of_column.find(u);
-    if (it == top_of_column.end() || static_cast<int>(i) < it->second)
-      top_of_column[u] = static_cast<int>(i);
-  }
-  int columns = 0, occluded = 0;
-  for (const auto& [u, i] : top_of_column)
-  {
-    const Eigen::Vector3f p = cloud[static_cast<std::size_t>(i)].getVector3fMap();
-    if (heightAbove(ground, p) < d.height - kHeadDepth)
-      continue;
-    ++columns;
-    const float range = (p - origin).norm();
-    const auto nearer_at = [&](int up) {
-      const int v = i / w - up;
-      if (v < 0)
-        return false;  // beyond the image: cannot tell (the top-border rule judges cut tops)
-      const PointT& q = cloud[static_cast<std::size_t>(v) * w + u];
-      return std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z) &&
-             (q.getVector3fMap() - origin).norm() <= range - step;
-    };
-    occluded += nearer_at(3) && nearer_at(6);
-  }
-  return columns ? static_cast<float>(occluded) / static_cast<float>(columns) : 0.0f;
-}
-
 void require(bool ok, const char* what)
 {
   if (!ok)
@@ -262,6 +225,8 @@ void validateTrackerParams(const TrackerParams& p)
   require(std::isfinite(p.hidden_lost_after) && p.hidden_lost_after >= p.lost_after,
           "hidden_lost_after must be at least lost_after");
   require(std::isfinite(p.reid_after) && p.reid_after >= 0, "reid_after must be finite and not negative");
+  require(std::isfinite(p.weak_max_colour_distance) && p.weak_max_colour_distance >= 0 && p.weak_max_colour_distance <= 1,
+          "weak_max_colour_distance must be in [0, 1]");
   require(std::isfinite(p.reid_max_colour_distance) && p.reid_max_colour_distance >= 0 && p.reid_max_colour_distance <= 1,
           "reid_max_colour_distance must be in [0, 1]");
   require(std::isfinite(p.reid_max_height_difference) && p.reid_max_height_difference >= 0,
@@ -710,7 +675,6 @@ void keepFreeStanding(const Cloud& cloud, const Eigen::Vector4f& ground, const E
         top_row = std::min(top_row, static_cast<std::uint32_t>(i / cloud.width));
       d.top_row = static_cast<int>(top_row);
       d.free_fraction = freeFraction(cloud, d, ground, origin, params.free_depth_step, walls);
-      d.occluded_top = occludedTopFraction(cloud, d, ground, origin, params.free_depth_step);
       if (params.reject_top_at_border && d.top_row <= kBorderRows && cutByTopBorder(cloud, d))
         continue;
       // Only of a new person: a bending body continuing its track has its back, not a free head, on top.

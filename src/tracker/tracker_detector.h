@@ -32,9 +32,6 @@ struct PersonDetection
   bool weak = false;
   /** Share of the head's image rows free on both sides (see TrackerParams::min_free_fraction); NaN if not computed. */
   float free_fraction = std::numeric_limits<float>::quiet_NaN();
-  /** Share of the head's image columns with something nearer right above them (see
-   *  occludedTopFraction in tracker_detector.cpp); NaN if not computed. */
-  float occluded_top = std::numeric_limits<float>::quiet_NaN();
   /** Organized clouds: the image row of the detection's highest pixel (0 = the top edge); -1 if not computed. */
   int top_row = -1;
   /** Width of the top 0.15 m over that of the 0.3-0.6 m below the top (see TrackerParams::max_head_ratio);

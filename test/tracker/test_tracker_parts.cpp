@@ -247,6 +247,33 @@ TEST(Appearance, ColourDistanceIsHellinger)
   EXPECT_NEAR(red.colourDistance(half), std::sqrt(1.0f - 0.5f - std::sqrt(0.125f)), 1e-5f);
 }
 
+// The histogram of some of a cloud's points (a weak detection's, every stride-th) and the distance
+// of a track's appearance to one frame's histogram.
+TEST(Appearance, HistogramOfIndicesAndDistanceToOneFrame)
+{
+  Cloud c = colouredCloud(200, 60, 60, 10);  // points 0-9 red
+  c += colouredCloud(60, 200, 60, 10);       // 10-19 green
+  pcl::Indices reds, every_other;
+  for (int i = 0; i < 10; ++i)
+    reds.push_back(i);
+  for (int i = 0; i < 20; ++i)
+    every_other.push_back(i);
+  const Appearance::Histogram r = Appearance::histogram(c, reds);
+  EXPECT_FLOAT_EQ(r(3 * 6 + 1), 0.5f) << "only the red points";
+  EXPECT_FLOAT_EQ(r(1 * 6 + 3), 0.0f);
+  // Every 3rd of 0..19: 0 3 6 9 red, 12 15 18 green: 4 of 7 red.
+  const Appearance::Histogram s = Appearance::histogram(c, every_other, 3);
+  EXPECT_NEAR(s(3 * 6 + 1), 0.5f * 4.0f / 7.0f, 1e-6f);
+  EXPECT_NEAR(s(1 * 6 + 3), 0.5f * 3.0f / 7.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(Appearance::histogram(c, pcl::Indices()).sum(), 0.0f);
+  Appearance red, green;
+  red.add(colouredCloud(200, 60, 60, 10), 1.7f);
+  green.add(colouredCloud(60, 200, 60, 10), 1.7f);
+  EXPECT_NEAR(red.colourDistance(r), 0.0f, 1e-4f);
+  EXPECT_NEAR(red.colourDistance(Appearance::histogram(colouredCloud(60, 200, 60, 10))), red.colourDistance(green), 1e-6f);
+  EXPECT_FLOAT_EQ(red.colourDistance(Appearance::Histogram::Zero()), 1.0f) << "an empty frame";
+}
+
 // ---- ground --------------------------------------------------------------------------------
 
 namespace
@@ -451,6 +478,7 @@ TEST(TrackerBadInput, BadParametersThrow)
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.confirm_after = 0; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.reid_after = -1; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.reid_max_colour_distance = 1.5f; })), std::invalid_argument);
+  EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.weak_max_colour_distance = -0.1f; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.reid_max_height_difference = std::nanf(""); })),
                std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.up_hint = Eigen::Vector3f::Zero(); })),
