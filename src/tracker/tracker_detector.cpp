@@ -677,9 +677,11 @@ void keepFreeStanding(const Cloud& cloud, const Eigen::Vector4f& ground, const E
       d.free_fraction = freeFraction(cloud, d, ground, origin, params.free_depth_step, walls);
       if (params.reject_top_at_border && d.top_row <= kBorderRows && cutByTopBorder(cloud, d))
         continue;
-      // Only of a new person: a bending body continuing its track has its back, not a free head, on top.
-      if (!d.weak && !(d.free_fraction >= params.min_free_fraction))
-        continue;
+      // Only a new person must show a free head: one that does not (a hand at the head, a column of a
+      // wall or shelf) may only continue a track, in the track's colours (weak), as a bending body,
+      // whose back is on top, does.
+      if (!(d.free_fraction >= params.min_free_fraction))
+        d.weak = true;
       kept.push_back(std::move(d));
     }
     candidates.swap(kept);
@@ -692,8 +694,9 @@ void keepFreeStanding(const Cloud& cloud, const Eigen::Vector4f& ground, const E
 // (m; people 0.82 and more, a table hiding their legs included; a raised hand split off its body, or
 // a shelf board, 0.3-0.5) ...
 constexpr float kNewPersonExtent = 0.7f;
-// ... and is at least this wide (m; people 0.37 and more, side-on too; a sliver of a shelf's side 0.13-0.16),
-constexpr float kNewPersonWidth = 0.25f;
+// ... and is at least this wide (m; people 0.33 and more but in 2 of 4000 frames, side-on too; a sliver of a
+// shelf's side 0.13-0.16, a shelf seen between a person's arm and body 0.28),
+constexpr float kNewPersonWidth = 0.3f;
 // ... and this large, in detection voxels (people 125 and more in 99 % of frames; a raised hand split off
 // its body 30-70, with what lies below it within reach: a shelf's side, a table's edge).
 constexpr int kNewPersonVoxels = 100;

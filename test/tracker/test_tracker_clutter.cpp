@@ -4,12 +4,14 @@
 // test camera's simple shapes, and the bending bodies.)
 #include <action_flow/people_tracker.h>
 #include "../../src/tracker/tracker_walls.h"
+#include <action_flow/synth/clutter.h>
 #include <action_flow/synth/scene.h>
 #include <action_flow/synth/synth.h>
 
 #include <gtest/gtest.h>
 #include <pcl/filters/voxel_grid.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace action_flow;
@@ -301,4 +303,36 @@ TEST(TrackerClutter, APersonsTrackDoesNotMoveOntoTheChairBesideThemWhenTheyLeave
   TrackerParams off;
   off.weak_max_colour_distance = 1.0f;
   EXPECT_GT(framesOnTheChair(off), 5) << "the scene no longer tests the colours: the chair is not taken for the person";
+}
+
+// A person scratching their head beside a shelf (clutter scene shelf_05 of seed 2, the scenes the
+// tracker's cues were developed on): the hand at the head breaks the free-standing head test, which
+// used to drop the person's detection, and their track (the person was found within 0.5 m in 37 of
+// the 90 frames). A head that is not free now only keeps a new person from starting: the track goes
+// on (77 of 90; the first frames confirm the track, and in 3 the track is beside them by 0.5-0.6 m).
+TEST(TrackerClutter, AHandAtTheHeadBesideAShelfKeepsThePersonsTrack)
+{
+  const std::vector<synth::SampleSpec> specs = synth::clutterSamples(10, 2);
+  const auto spec = std::find_if(specs.begin(), specs.end(), [](const synth::SampleSpec& s) { return s.name() == "shelf_05"; });
+  ASSERT_NE(spec, specs.end());
+  ASSERT_EQ(spec->action, "scratch_head");
+  const synth::SampleRenderer sample(*spec);
+  const Eigen::Isometry3f world = sample.camera().worldFromOptical();
+  PeopleTracker tracker;
+  synth::FrameImages im;
+  Cloud cloud;
+  int found = 0, others = 0;
+  for (int i = 0; i < sample.frames(); ++i)
+  {
+    sample.renderImages(i, im);
+    sample.scene().toCloud(im, cloud);
+    const TrackerResult r = tracker.update(cloud, sample.stamp(i));
+    const Eigen::Vector2f torso = sample.worldSkeleton(i)[Joint::Torso].head<2>();
+    bool here = false;
+    for (const auto& p : r.people)
+      ((world * p.position).head<2>() - torso).norm() < 0.5f ? here = true : ++others;
+    found += here;
+  }
+  EXPECT_GE(found, 70) << "of " << sample.frames() << " frames";
+  EXPECT_LE(others, 5);
 }
