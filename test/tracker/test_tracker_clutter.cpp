@@ -54,6 +54,18 @@ Cloud renderCloud(const synth::SceneRenderer& scene, const std::vector<synth::Po
   return cloud;
 }
 
+/** Six frames of @p scene (no person in it) give no detection and nobody. */
+void expectNobodyIn(const synth::SceneRenderer& scene)
+{
+  PeopleTracker tracker;
+  for (int k = 0; k < 6; ++k)
+  {
+    const TrackerResult r = tracker.update(renderCloud(scene, {}, k), 0.1 * k);
+    EXPECT_EQ(r.detections, 0u) << "frame " << k;
+    EXPECT_TRUE(r.people.empty()) << "frame " << k;
+  }
+}
+
 synth::SampleSpec standing(const std::string& person)
 {
   synth::SampleSpec spec;
@@ -104,13 +116,7 @@ TEST(TrackerClutter, AChairAloneGivesNone)
         cam.height_above_floor = height;
         cam.tilt = tilt;
         const synth::SceneRenderer scene(cam, room);
-        PeopleTracker tracker;
-        for (int k = 0; k < 6; ++k)
-        {
-          const TrackerResult r = tracker.update(renderCloud(scene, {}, k), 0.1 * k);
-          EXPECT_EQ(r.detections, 0u) << "frame " << k;
-          EXPECT_TRUE(r.people.empty()) << "frame " << k;
-        }
+        expectNobodyIn(scene);
         ++scenes;
       }
 }
@@ -256,13 +262,7 @@ TEST(TrackerClutter, AShapeInTheAirOrASliverStartsNoPerson)
     }
     synth::CameraModel cam;
     const synth::SceneRenderer scene(cam, room);
-    PeopleTracker tracker;
-    for (int k = 0; k < 6; ++k)
-    {
-      const TrackerResult r = tracker.update(renderCloud(scene, {}, k), 0.1 * k);
-      EXPECT_EQ(r.detections, 0u) << "frame " << k;
-      EXPECT_TRUE(r.people.empty()) << "frame " << k;
-    }
+    expectNobodyIn(scene);
   }
 }
 
