@@ -19,7 +19,7 @@ namespace action_flow
 /**
  * Parameters (private): output (cloud|person_clouds), scene (person|empty|nan|unorganized|
  * floorless), rate (Hz), frame_id, wave_hz, count (frames, 0 = forever), jump_back_after
- * (frame at which the stamps jump 5 s back; 0 = never), lose_after (frames per track: then the
+ * (frames per loop: then the stamps start again from the first one; 0 = never), lose_after (frames per track: then the
  * track is reported lost and a new id starts; 0 = never), distance (m).
  */
 class TestScenePublisher : public nodelet::Nodelet
@@ -53,11 +53,13 @@ class TestScenePublisher : public nodelet::Nodelet
   {
     if (count_ > 0 && frame_ >= count_)
       return;
-    if (jump_back_after_ > 0 && frame_ == jump_back_after_)
-      offset_ -= 5.0;
+    // Like a looping bag: every jump_back_after frames the stamps start again from the first one,
+    // so a subscriber that starts late still sees time go back.
+    if (jump_back_after_ > 0 && frame_ > 0 && frame_ % jump_back_after_ == 0)
+      offset_ -= jump_back_after_ * period_;
     const double t = frame_ * period_;
     std_msgs::Header header;
-    header.stamp = start_ + ros::Duration(t + offset_ + 10.0);  // +10: never below zero after a jump
+    header.stamp = start_ + ros::Duration(t + offset_ + 10.0);  // +10: a stamp well above zero
     header.frame_id = frame_id_;
     const float angle = 0.3f + 0.9f * static_cast<float>(std::sin(2.0 * M_PI * wave_hz_ * t));
     if (output_ == "cloud")
