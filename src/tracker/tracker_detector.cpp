@@ -364,7 +364,9 @@ struct PeopleDetector::Impl
   RadiusGrid grid;
   std::unique_ptr<pcl::people::PersonClassifier<pcl::RGB>> classifier;
   pcl::Indices valid;
-  pcl::IndicesPtr sampled{new pcl::Indices};
+  pcl::Indices sampled;
+  VoxelFilter voxel_filter;
+  Cloud voxels;
 };
 
 PeopleDetector::PeopleDetector(const TrackerParams& params) : params_(params)
@@ -817,15 +819,19 @@ void usablePoints(const Cloud& cloud, const Eigen::Vector3f& origin, const Track
   valid.clear();
   sampled.clear();
   const std::size_t step = cloud.height > 1 ? static_cast<std::size_t>(params.sampling_factor) : 1;
-  for (std::size_t i = 0; i < cloud.size(); ++i)
+  for (std::size_t r = 0, i = 0; r < cloud.height; ++r)
   {
-    const PointT& p = cloud[i];
-    if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
-        (p.getVector3fMap() - origin).squaredNorm() <= range2)
+    const bool sampled_row = r % step == 0;
+    for (std::size_t c = 0, phase = 0; c < cloud.width; ++c, ++i, phase = phase + 1 == step ? 0 : phase + 1)
     {
-      valid.push_back(static_cast<pcl::index_t>(i));
-      if (step == 1 || ((i % cloud.width) % step == 0 && (i / cloud.width) % step == 0))
-        sampled.push_back(static_cast<pcl::index_t>(i));
+      const PointT& p = cloud[i];
+      if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) &&
+          (p.getVector3fMap() - origin).squaredNorm() <= range2)
+      {
+        valid.push_back(static_cast<pcl::index_t>(i));
+        if (sampled_row && phase == 0)
+          sampled.push_back(static_cast<pcl::index_t>(i));
+      }
     }
   }
 }
@@ -867,26 +873,27 @@ DetectionResult PeopleDetector::detect(const Cloud& cloud, const Eigen::Vector3f
   // ---- finite points in range, voxelised; the ground ----
   // The index lists are kept from frame to frame: a 640x480 frame's are megabytes, and allocating
   // them afresh each frame costs page faults.
-  usablePoints(cloud, origin, params_, impl_->valid, *impl_->sampled);
-  if (impl_->sampled->size() < 3)
+  usablePoints(cloud, origin, params_, impl_->valid, impl_->sampled);
+  if (impl_->sampled.size() < 3)
   {
     groundPlane(nullptr, origin, params_, impl_->ground, out);
     return out;
   }
-  auto voxels = pcl::make_shared<Cloud>(voxelFiltered(cloud, params_.detection_voxel_size, impl_->sampled));
-  if (!groundPlane(voxels.get(), origin, params_, impl_->ground, out))
+  const Cloud& voxels = impl_->voxels;
+  impl_->voxel_filter.filter(cloud, params_.detection_voxel_size, &impl_->sampled, impl_->voxels);
+  if (!groundPlane(&voxels, origin, params_, impl_->ground, out))
     return out;
   const Eigen::Vector4f ground = out.ground;
   const Eigen::Vector3f up = ground.head<3>();
   const float camera_height = heightAbove(ground, origin);
 
-  const Eigen::Matrix3f R = levelFrame(*voxels, origin, up);
+  const Eigen::Matrix3f R = levelFrame(voxels, origin, up);
 
   // ---- ground removal (also what lies below it: noise, reflections), then walls ----
   auto above = pcl::make_shared<Cloud>();  // input frame
   auto level = pcl::make_shared<Cloud>();  // the same points in the level frame
   std::vector<Eigen::Vector4f> walls;
-  if (!pointsAboveGround(*voxels, ground, origin, R, params_, imageTopEdge(cloud, origin, params_.max_range), *above,
+  if (!pointsAboveGround(voxels, ground, origin, R, params_, imageTopEdge(cloud, origin, params_.max_range), *above,
                          *level, walls))
     return out;
 
