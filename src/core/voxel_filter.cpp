@@ -74,16 +74,20 @@ void VoxelFilter::filter(const Cloud& in, float leaf, const pcl::Indices* indice
   const std::int64_t dx = static_cast<std::int64_t>((hi[0] - lo[0]) * inverse) + 1;
   const std::int64_t dy = static_cast<std::int64_t>((hi[1] - lo[1]) * inverse) + 1;
   const std::int64_t dz = static_cast<std::int64_t>((hi[2] - lo[2]) * inverse) + 1;
-  // In double: at a tiny leaf the product overflows even 64 bits (PCL's check does).
-  if (static_cast<double>(dx) * static_cast<double>(dy) * static_cast<double>(dz) >
-      static_cast<double>(std::numeric_limits<std::int32_t>::max()))
-    throw std::invalid_argument("VoxelFilter: the leaf size is too small for the cloud's extent");
   Eigen::Array3i min_b, div;
   for (int a = 0; a < 3; ++a)
   {
     min_b[a] = static_cast<int>(std::floor(lo[a] * inverse));
     div[a] = static_cast<int>(std::floor(hi[a] * inverse)) - min_b[a] + 1;
   }
+  // PCL checks dx * dy * dz; the voxel indices run up to div's product, which can be larger (a box
+  // 2047.2 voxels long from 0.9 of a voxel spans 2049). Both in double: at a tiny leaf they overflow
+  // even 64 bits.
+  const double cells = static_cast<double>(div[0]) * static_cast<double>(div[1]) * static_cast<double>(div[2]);
+  if (static_cast<double>(dx) * static_cast<double>(dy) * static_cast<double>(dz) >
+          static_cast<double>(std::numeric_limits<std::int32_t>::max()) ||
+      cells > static_cast<double>(std::numeric_limits<std::int32_t>::max()))
+    throw std::invalid_argument("VoxelFilter: the leaf size is too small for the cloud's extent");
   const int mul_y = div[0], mul_z = div[0] * div[1];
 
   // Each usable point with its voxel's linear index, sorted by that index.
@@ -100,8 +104,9 @@ void VoxelFilter::filter(const Cloud& in, float leaf, const pcl::Indices* indice
     const int ijk2 = static_cast<int>(std::floor(p.z * inverse) - static_cast<float>(min_b[2]));
     entries_.push_back({ static_cast<unsigned int>(ijk0 + ijk1 * mul_y + ijk2 * mul_z), static_cast<unsigned int>(i) });
   }
+  const auto last_cell = static_cast<std::uint64_t>(cells) - 1;
   int bits = 0;
-  while (bits < 32 && (static_cast<std::uint64_t>(dx * dy * dz - 1) >> bits) != 0)
+  while (bits < 32 && (last_cell >> bits) != 0)
     ++bits;
   sortByVoxel(entries_, spare_, bits);
 

@@ -144,6 +144,22 @@ TEST(VoxelFilter, KnownCentroidsAndColours)
   EXPECT_EQ(out[0].b, 15);
   EXPECT_NEAR(out[1].x, 0.25f, 1e-6f);
   EXPECT_EQ(out[1].r, 7);
+
+  // A box 2047.2 voxels long, from 0.9 of a voxel: its points span 2049 voxels, one more than the
+  // box's length says; the last must still come last.
+  Cloud line;
+  for (float x : { 204.81f, 0.09f, 100.05f })
+  {
+    PointT p;
+    p.x = x, p.y = 0.0f, p.z = 0.0f;
+    line.push_back(p);
+  }
+  const Cloud sorted = voxelFiltered(line, 0.1f);
+  ASSERT_EQ(sorted.size(), 3u);
+  EXPECT_NEAR(sorted[0].x, 0.09f, 1e-4f);
+  EXPECT_NEAR(sorted[1].x, 100.05f, 1e-3f);
+  EXPECT_NEAR(sorted[2].x, 204.81f, 1e-3f);
+  expectSame(pclVoxelGrid(line, 0.1f, nullptr), sorted, 0.1f);
 }
 
 TEST(VoxelFilter, EmptyNaNOnlyAndBadLeaf)
