@@ -41,6 +41,23 @@ inline Cloud texturedBlock(int nx, int ny, int nz, const Eigen::Vector3f& corner
   return c;
 }
 
+/** @p n points drawn uniformly in the box @p lo .. @p hi, each with a random colour (mt19937 @p seed). */
+inline Cloud randomBox(unsigned seed, int n, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> x(lo.x(), hi.x()), y(lo.y(), hi.y()), z(lo.z(), hi.z());
+  std::uniform_int_distribution<int> c(0, 255);
+  Cloud cloud;
+  for (int i = 0; i < n; ++i)
+  {
+    PointT p;
+    p.x = x(rng), p.y = y(rng), p.z = z(rng);
+    p.r = static_cast<std::uint8_t>(c(rng)), p.g = static_cast<std::uint8_t>(c(rng)), p.b = static_cast<std::uint8_t>(c(rng));
+    cloud.push_back(p);
+  }
+  return cloud;
+}
+
 /** The same cloud moved by @p d. */
 inline Cloud shifted(const Cloud& in, const Eigen::Vector3f& d)
 {

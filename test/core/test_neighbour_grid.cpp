@@ -20,18 +20,7 @@ namespace
 // Random points filling a person-sized slab, voxelised (centroids: irregular, as the tracker's output).
 Cloud randomVoxelised(unsigned seed, int n, float voxel)
 {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> x(-0.3f, 0.3f), y(-0.9f, 0.9f), z(2.4f, 2.6f);
-  std::uniform_int_distribution<int> c(0, 255);
-  Cloud raw;
-  for (int i = 0; i < n; ++i)
-  {
-    PointT p;
-    p.x = x(rng), p.y = y(rng), p.z = z(rng);
-    p.r = static_cast<std::uint8_t>(c(rng)), p.g = static_cast<std::uint8_t>(c(rng)), p.b = static_cast<std::uint8_t>(c(rng));
-    raw.push_back(p);
-  }
-  return voxelFiltered(raw, voxel);
+  return voxelFiltered(test::randomBox(seed, n, { -0.3f, -0.9f, 2.4f }, { 0.3f, 0.9f, 2.6f }), voxel);
 }
 
 // A regular lattice with few colours: many exactly equal distances and colours, the hard case for ties.

@@ -2,6 +2,7 @@
 // centroids and colours (up to the last bit: PCL's sort is not stable, so it may sum a voxel's points
 // in another order), on organized scenes with NaNs, index subsets and random clouds, also when one
 // filter is reused from frame to frame.
+#include "clouds.h"
 #include "scene.h"
 
 #include <action_flow/voxel_filter.h>
@@ -9,7 +10,6 @@
 #include <gtest/gtest.h>
 #include <pcl/filters/voxel_grid.h>
 
-#include <random>
 
 using namespace action_flow;
 
@@ -54,17 +54,7 @@ void expectSame(const Cloud& expected, const Cloud& actual, float leaf)
 
 Cloud randomCloud(unsigned seed, int n)
 {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> x(-2.0f, 2.0f), y(-1.0f, 1.2f), z(0.5f, 6.0f);
-  std::uniform_int_distribution<int> c(0, 255);
-  Cloud cloud;
-  for (int i = 0; i < n; ++i)
-  {
-    PointT p;
-    p.x = x(rng), p.y = y(rng), p.z = z(rng);
-    p.r = static_cast<std::uint8_t>(c(rng)), p.g = static_cast<std::uint8_t>(c(rng)), p.b = static_cast<std::uint8_t>(c(rng));
-    cloud.push_back(p);
-  }
+  Cloud cloud = test::randomBox(seed, n, { -2.0f, -1.0f, 0.5f }, { 2.0f, 1.2f, 6.0f });
   cloud.header.frame_id = "camera_rgb_optical_frame";
   cloud.header.stamp = 1234567;
   return cloud;
