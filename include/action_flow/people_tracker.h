@@ -129,8 +129,8 @@ struct TrackerParams
    *  farther from where they were last seen than gate plus 2 m/s for the time in between. A lost
    *  person is remembered this long (s); 0 turns it off. A confirmed track still coasting unseen
    *  (its detection jumped beyond the gate) is continued the same way, and then never reported lost. */
-  double reid_after = 10.0;
-  float reid_max_colour_distance = 0.15f;
+  double reid_after = 20.0;
+  float reid_max_colour_distance = 0.2f;
   float reid_max_height_difference = 0.25f;  // loose: a person acting (arms up, bending) changes height
 
   // ---- added for orientation (evaluate --protocol cross-view) ----
