@@ -59,6 +59,9 @@ constexpr std::size_t kColourStride = 4;
 // Half the width of a person's shadow (m) at the person's own distance: a body about 0.5 m wide
 // plus the hidden person's half width.
 constexpr float kShadowHalfWidth = 0.45f;
+// Two parts of one body lie side by side: their distances from the camera differ by less than this
+// (a body is about 0.3 m deep; a person passing behind another is farther by more than that).
+constexpr float kSplitDepth = 0.25f;
 
 /**
  * Whether @p hidden (a predicted position) lies in the shadow of @p front (a person seen in this
@@ -113,6 +116,66 @@ Eigen::MatrixXf associationCosts(const std::vector<Track>& tracks, const std::ve
     }
   }
   return cost;
+}
+/**
+ * A body split in two (a raised or thrown arm gives a second "head" beside the real one): a
+ * person-like detection that no confirmed track took, lying within @p max_distance on the ground of
+ * one a confirmed track took, at about the same distance from the camera (side by side in the view:
+ * a person passing behind is farther), is that person's other part: its points join theirs and it
+ * starts no track. A person who walks up beside another is confirmed on their own detection long
+ * before they come this close. Updates @p match (each track's detection) to the shortened list.
+ */
+void absorbSplitBodies(const std::vector<Track>& tracks, std::vector<int>& match, std::vector<PersonDetection>& people,
+                       const Eigen::Vector3f& origin, const Eigen::Vector3f& up, float max_distance)
+{
+  if (!(max_distance > 0.0f))
+    return;
+  const auto flat = [&](const Eigen::Vector3f& d) -> Eigen::Vector3f { return d - d.dot(up) * up; };
+  std::vector<char> owned(people.size(), 0);  // taken by a confirmed track
+  for (std::size_t i = 0; i < tracks.size(); ++i)
+    if (match[i] >= 0 && tracks[i].id != 0)
+      owned[match[i]] = 1;
+  std::vector<char> absorbed(people.size(), 0);
+  for (std::size_t j = 0; j < people.size(); ++j)
+  {
+    if (owned[j] || people[j].weak)
+      continue;
+    int into = -1;
+    float nearest = max_distance;
+    for (std::size_t m = 0; m < people.size(); ++m)
+    {
+      if (!owned[m])
+        continue;
+      const float d = flat(people[j].centroid - people[m].centroid).norm();
+      const float depth = std::abs(flat(people[j].centroid - origin).norm() - flat(people[m].centroid - origin).norm());
+      if (d < nearest && depth < kSplitDepth)
+        nearest = d, into = static_cast<int>(m);
+    }
+    if (into < 0)
+      continue;
+    PersonDetection& p = people[into];
+    const PersonDetection& q = people[j];
+    const float wp = static_cast<float>(p.voxels), wq = static_cast<float>(q.voxels);
+    p.centroid = (wp * p.centroid + wq * q.centroid) / (wp + wq);
+    p.height = std::max(p.height, q.height);
+    p.width = std::max({ p.width, q.width, nearest });
+    p.voxels += q.voxels;
+    p.indices.insert(p.indices.end(), q.indices.begin(), q.indices.end());
+    absorbed[j] = 1;
+  }
+  std::vector<int> renumber(people.size(), -1);
+  std::size_t kept = 0;
+  for (std::size_t j = 0; j < people.size(); ++j)
+    if (!absorbed[j])
+    {
+      renumber[j] = static_cast<int>(kept);
+      if (kept != j)
+        people[kept] = std::move(people[j]);
+      ++kept;
+    }
+  people.resize(kept);
+  for (int& m : match)
+    m = m >= 0 ? renumber[m] : -1;
 }
 }  // namespace
 
@@ -356,7 +419,8 @@ TrackerResult PeopleTracker::update(const Cloud& cloud, double stamp, const Eige
 
   // Gated optimal assignment on the ground.
   const Eigen::Vector3f up = det.ground_valid ? Eigen::Vector3f(det.ground.head<3>()) : Eigen::Vector3f::Zero();
-  const std::vector<int> match = solveAssignment(associationCosts(s.tracks, det.people, cloud, up, stamp, params_), 1.0f);
+  std::vector<int> match = solveAssignment(associationCosts(s.tracks, det.people, cloud, up, stamp, params_), 1.0f);
+  absorbSplitBodies(s.tracks, match, det.people, camera_origin, up, params_.split_max_distance);
   const std::vector<int> seen = s.updateTracks(det.people, match, stamp, camera_origin, up, params_, result.lost);
 
   for (std::size_t i = 0; i < s.tracks.size(); ++i)

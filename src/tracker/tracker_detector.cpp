@@ -231,6 +231,7 @@ void validateTrackerParams(const TrackerParams& p)
           "reid_max_colour_distance must be in [0, 1]");
   require(std::isfinite(p.reid_max_height_difference) && p.reid_max_height_difference >= 0,
           "reid_max_height_difference must be finite and not negative");
+  require(std::isfinite(p.split_max_distance) && p.split_max_distance >= 0, "split_max_distance must be finite and not negative");
   require(p.confirm_after >= 1, "confirm_after must be at least 1");
   require(std::isfinite(p.facing_smoothing) && p.facing_smoothing >= 0, "facing_smoothing must be at least 0");
   require(p.up_hint.allFinite() && p.up_hint.norm() > 1e-6f, "up_hint must be a finite non-zero vector");

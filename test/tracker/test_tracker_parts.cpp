@@ -469,6 +469,7 @@ TEST(TrackerBadInput, BadParametersThrow)
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.cluster_tolerance = -1; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.min_points = 0; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.sampling_factor = 0; })), std::invalid_argument);
+  EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) { p.split_max_distance = -0.1f; })), std::invalid_argument);
   EXPECT_THROW(PeopleTracker(bad([](TrackerParams& p) {
                  p.ground = Eigen::Vector4f(0, 0, 0, 1);
                })),
