@@ -153,14 +153,7 @@ void absorbSplitBodies(const std::vector<Track>& tracks, std::vector<int>& match
     }
     if (into < 0)
       continue;
-    PersonDetection& p = people[into];
-    const PersonDetection& q = people[j];
-    const float wp = static_cast<float>(p.voxels), wq = static_cast<float>(q.voxels);
-    p.centroid = (wp * p.centroid + wq * q.centroid) / (wp + wq);
-    p.height = std::max(p.height, q.height);
-    p.width = std::max({ p.width, q.width, nearest });
-    p.voxels += q.voxels;
-    p.indices.insert(p.indices.end(), q.indices.begin(), q.indices.end());
+    joinDetection(people[into], people[j], nearest);
     absorbed[j] = 1;
   }
   std::vector<int> renumber(people.size(), -1);

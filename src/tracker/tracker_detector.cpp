@@ -780,6 +780,20 @@ bool confirmWithHog(const Cloud& cloud, const Eigen::Vector4f& ground, pcl::peop
   return false;
 }
 
+}  // namespace
+
+void joinDetection(PersonDetection& into, const PersonDetection& part, float apart)
+{
+  const float wp = static_cast<float>(into.voxels), wq = static_cast<float>(part.voxels);
+  into.centroid = (wp * into.centroid + wq * part.centroid) / (wp + wq);
+  into.height = std::max(into.height, part.height);
+  into.width = std::max({ into.width, part.width, apart });
+  into.voxels += part.voxels;
+  into.indices.insert(into.indices.end(), part.indices.begin(), part.indices.end());
+}
+
+namespace
+{
 // A bending body often falls apart into two low clusters (back and head, legs and arms): weak
 // candidates this close on the floor are one body.
 void mergeFragments(const Eigen::Vector3f& up, std::vector<PersonDetection>& candidates)
@@ -798,12 +812,7 @@ void mergeFragments(const Eigen::Vector3f& up, std::vector<PersonDetection>& can
         ++b;
         continue;
       }
-      const float wp = static_cast<float>(p.voxels), wq = static_cast<float>(q.voxels);
-      p.centroid = (wp * p.centroid + wq * q.centroid) / (wp + wq);
-      p.height = std::max(p.height, q.height);
-      p.width = std::max({p.width, q.width, (d - d.dot(up) * up).norm()});
-      p.voxels += q.voxels;
-      p.indices.insert(p.indices.end(), q.indices.begin(), q.indices.end());
+      joinDetection(p, q, (d - d.dot(up) * up).norm());
       candidates.erase(candidates.begin() + static_cast<std::ptrdiff_t>(b));
     }
   }

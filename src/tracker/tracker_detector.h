@@ -39,6 +39,12 @@ struct PersonDetection
   float head_ratio = std::numeric_limits<float>::quiet_NaN();
 };
 
+/**
+ * @brief Makes @p part one body with @p into: its points join, the centroid is the voxel-weighted
+ *        mean, the height the higher; @p apart (their distance on the ground) widens the width.
+ */
+void joinDetection(PersonDetection& into, const PersonDetection& part, float apart);
+
 /** @brief What one frame gave. */
 struct DetectionResult
 {
