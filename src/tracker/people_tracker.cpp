@@ -63,6 +63,12 @@ constexpr float kShadowHalfWidth = 0.45f;
 // (a body is about 0.3 m deep; a person passing behind another is farther by more than that).
 constexpr float kSplitDepth = 0.25f;
 
+/** @p d laid on the ground plane of normal @p up (unit, or zero: @p d as it is). */
+Eigen::Vector3f onGround(const Eigen::Vector3f& d, const Eigen::Vector3f& up)
+{
+  return d - d.dot(up) * up;
+}
+
 /**
  * Whether @p hidden (a predicted position) lies in the shadow of @p front (a person seen in this
  * frame) as the camera at @p origin sees them, measured on the ground plane (@p up, unit or zero):
@@ -72,8 +78,7 @@ constexpr float kSplitDepth = 0.25f;
 bool inShadowOf(const Eigen::Vector3f& hidden, const Eigen::Vector3f& front, const Eigen::Vector3f& origin,
                 const Eigen::Vector3f& up)
 {
-  const auto flat = [&](const Eigen::Vector3f& d) -> Eigen::Vector3f { return d - d.dot(up) * up; };
-  const Eigen::Vector3f h = flat(hidden - origin), f = flat(front - origin);
+  const Eigen::Vector3f h = onGround(hidden - origin, up), f = onGround(front - origin, up);
   const float dh = h.norm(), df = f.norm();
   if (!(df > 0.1f) || dh <= df)
     return false;
@@ -130,7 +135,6 @@ void absorbSplitBodies(const std::vector<Track>& tracks, std::vector<int>& match
 {
   if (!(max_distance > 0.0f))
     return;
-  const auto flat = [&](const Eigen::Vector3f& d) -> Eigen::Vector3f { return d - d.dot(up) * up; };
   std::vector<char> owned(people.size(), 0);  // taken by a confirmed track
   for (std::size_t i = 0; i < tracks.size(); ++i)
     if (match[i] >= 0 && tracks[i].id != 0)
@@ -146,8 +150,9 @@ void absorbSplitBodies(const std::vector<Track>& tracks, std::vector<int>& match
     {
       if (!owned[m])
         continue;
-      const float d = flat(people[j].centroid - people[m].centroid).norm();
-      const float depth = std::abs(flat(people[j].centroid - origin).norm() - flat(people[m].centroid - origin).norm());
+      const float d = onGround(people[j].centroid - people[m].centroid, up).norm();
+      const float depth = std::abs(onGround(people[j].centroid - origin, up).norm() -
+                                   onGround(people[m].centroid - origin, up).norm());
       if (d < nearest && depth < kSplitDepth)
         nearest = d, into = static_cast<int>(m);
     }
