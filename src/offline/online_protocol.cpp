@@ -414,8 +414,9 @@ std::vector<StreamWindowCounts> windowCandidates(const std::string& variant)
   if (variant != "posture_flow")
     return { {} };
   std::vector<StreamWindowCounts> out;
-  for (int action : { 0, 24 })
-    for (int no_action : { 0, 6, 12, 24 })
+  // 48 of either is about all a one-minute stream holds.
+  for (int action : { 0, 24, 48 })
+    for (int no_action : { 0, 6, 12, 24, 48 })
       out.push_back({ no_action, action });
   return out;
 }

@@ -229,32 +229,38 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   EXPECT_LE(t["f1"].get<double>(), 1.0);
   EXPECT_GE(t["frame_accuracy"].get<double>(), 0.0);
   EXPECT_LE(t["frame_accuracy"].get<double>(), 1.0);
-  // The no-action class: 0, 6, 12 or 24 windows a stream of the training people who do not tune (p01,
-  // p02), with or without 24 action windows, chosen on the tuning person's stream; the final model
+  // The no-action class: 0, 6, 12, 24 or 48 windows a stream of the training people who do not tune
+  // (p01, p02), with 0, 24 or 48 action windows, chosen on the tuning person's stream; the final model
   // takes them from p03's too.
-  ASSERT_EQ(v["no_action_candidates"].size(), 8u);
-  for (int k = 0; k < 4; ++k)
-  {
-    const nlohmann::json& without = v["no_action_candidates"][k];
-    const nlohmann::json& with = v["no_action_candidates"][k + 4];
-    EXPECT_EQ(without["action_windows"], 0);
-    EXPECT_EQ(without["action_samples"], 0);
-    EXPECT_EQ(with["action_windows"], 24);
-    // (the streams draw from all 14 actions: only windows of wave, kick or sit_down can be learnt)
-    EXPECT_GE(with["action_samples"].get<int>(), 0);
-    EXPECT_EQ(with["samples"], without["samples"]);
-  }
+  const std::vector<int> idle_counts = { 0, 6, 12, 24, 48 }, action_counts = { 0, 24, 48 };
+  const std::size_t n_idle = idle_counts.size();
+  ASSERT_EQ(v["no_action_candidates"].size(), n_idle * action_counts.size());
+  for (std::size_t a = 0; a < action_counts.size(); ++a)
+    for (std::size_t k = 0; k < n_idle; ++k)
+    {
+      const nlohmann::json& c = v["no_action_candidates"][a * n_idle + k];
+      const nlohmann::json& without = v["no_action_candidates"][k];
+      EXPECT_EQ(c["no_action_windows"], idle_counts[k]);
+      EXPECT_EQ(c["action_windows"], action_counts[a]);
+      if (a == 0)
+        EXPECT_EQ(c["action_samples"], 0);
+      // (the streams draw from all 14 actions: only windows of wave, kick or sit_down can be learnt)
+      EXPECT_GE(c["action_samples"].get<int>(), 0);
+      EXPECT_EQ(c["samples"], without["samples"]) << "action windows change no no-action count";
+      if (a > 0)
+        EXPECT_GE(c["action_samples"].get<int>(), v["no_action_candidates"][(a - 1) * n_idle + k]["action_samples"].get<int>());
+    }
   EXPECT_EQ(v["no_action_candidates"][0]["samples"], 0);
   const int six = v["no_action_candidates"][1]["samples"];
   EXPECT_GT(six, 0) << "no window of transitions or idle periods in p01's and p02's streams";
   EXPECT_LE(six, 12);
-  EXPECT_GE(v["no_action_candidates"][2]["samples"].get<int>(), six);
-  EXPECT_GE(v["no_action_candidates"][3]["samples"].get<int>(), v["no_action_candidates"][2]["samples"].get<int>());
+  for (std::size_t k = 2; k < n_idle; ++k)
+    EXPECT_GE(v["no_action_candidates"][k]["samples"].get<int>(), v["no_action_candidates"][k - 1]["samples"].get<int>());
   const int chosen = v["no_action_windows"];
-  EXPECT_TRUE(chosen == 0 || chosen == 6 || chosen == 12 || chosen == 24) << chosen;
+  EXPECT_NE(std::find(idle_counts.begin(), idle_counts.end(), chosen), idle_counts.end()) << chosen;
   EXPECT_EQ(v["no_action_samples"].get<int>() > 0, chosen > 0);
   const int chosen_actions = v["action_windows"];
-  EXPECT_TRUE(chosen_actions == 0 || chosen_actions == 24) << chosen_actions;
+  EXPECT_NE(std::find(action_counts.begin(), action_counts.end(), chosen_actions), action_counts.end()) << chosen_actions;
   if (chosen_actions == 0)
     EXPECT_EQ(v["action_window_samples"], 0);
 
