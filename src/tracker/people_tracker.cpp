@@ -63,12 +63,6 @@ constexpr float kShadowHalfWidth = 0.45f;
 // (a body is about 0.3 m deep; a person passing behind another is farther by more than that).
 constexpr float kSplitDepth = 0.25f;
 
-/** @p d laid on the ground plane of normal @p up (unit, or zero: @p d as it is). */
-Eigen::Vector3f onGround(const Eigen::Vector3f& d, const Eigen::Vector3f& up)
-{
-  return d - d.dot(up) * up;
-}
-
 /**
  * Whether @p hidden (a predicted position) lies in the shadow of @p front (a person seen in this
  * frame) as the camera at @p origin sees them, measured on the ground plane (@p up, unit or zero):
@@ -108,7 +102,7 @@ Eigen::MatrixXf associationCosts(const std::vector<Track>& tracks, const std::ve
     {
       const Eigen::Vector3f d = people[j].centroid - tracks[i].filter.position();
       cost(i, j) = people[j].weak && tracks[i].id == 0 ? 2.0f + 1e3f
-                                                       : (d - d.dot(up) * up).norm() / (people[j].weak ? gate : wide);
+                                                       : onGround(d, up).norm() / (people[j].weak ? gate : wide);
       // A weak detection that does not look like the track is something else beside them.
       if (people[j].weak && cost(i, j) < 1.0f && tracks[i].appearance.frames() > 0 &&
           params.weak_max_colour_distance < 1.0f)
@@ -332,7 +326,7 @@ void PeopleTracker::Impl::reidentify(std::size_t i, const Appearance& look, cons
     const Eigen::Vector3f d = t.last_position - where;
     const float reach = params.gate + kReidSpeed * static_cast<float>(stamp - when);
     const float colours = a.colourDistance(look);
-    const bool close = (d - d.dot(up) * up).norm() <= reach &&
+    const bool close = onGround(d, up).norm() <= reach &&
                        std::abs(a.height() - look.height()) <= params.reid_max_height_difference &&
                        colours <= params.reid_max_colour_distance;
     return close ? colours : 2.0f;

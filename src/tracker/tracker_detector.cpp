@@ -114,8 +114,7 @@ bool onAWall(const std::vector<Eigen::Vector4f>& walls, const Eigen::Vector3f& p
 float headRatio(const Cloud& cloud, const PersonDetection& d, const Eigen::Vector4f& ground, const Eigen::Vector3f& origin)
 {
   const Eigen::Vector3f up = ground.head<3>();
-  Eigen::Vector3f view = d.centroid - origin;
-  view -= view.dot(up) * up;
+  const Eigen::Vector3f view = onGround(d.centroid - origin, up);
   if (!(view.norm() > 1e-3f))
     return std::numeric_limits<float>::quiet_NaN();
   const Eigen::Vector3f across = up.cross(view).normalized();
@@ -436,7 +435,7 @@ Eigen::Matrix3f levelFrame(const Cloud& voxels, const Eigen::Vector3f& origin, c
   Eigen::Vector3f mean_view = Eigen::Vector3f::Zero();
   for (const auto& p : voxels.points)
     mean_view += p.getVector3fMap() - origin;
-  Eigen::Vector3f ahead = mean_view - mean_view.dot(up) * up;
+  Eigen::Vector3f ahead = onGround(mean_view, up);
   if (!(ahead.norm() > 1e-3f))
     ahead = up.unitOrthogonal();
   ahead.normalize();
@@ -807,12 +806,12 @@ void mergeFragments(const Eigen::Vector3f& up, std::vector<PersonDetection>& can
       PersonDetection& p = candidates[a];
       const PersonDetection& q = candidates[b];
       const Eigen::Vector3f d = q.centroid - p.centroid;
-      if (!q.weak || (d - d.dot(up) * up).norm() > kFragmentDistance)
+      if (!q.weak || onGround(d, up).norm() > kFragmentDistance)
       {
         ++b;
         continue;
       }
-      joinDetection(p, q, (d - d.dot(up) * up).norm());
+      joinDetection(p, q, onGround(d, up).norm());
       candidates.erase(candidates.begin() + static_cast<std::ptrdiff_t>(b));
     }
   }

@@ -11,6 +11,12 @@
 
 namespace action_flow
 {
+/** @brief @p d laid on the ground plane of normal @p up (unit, or zero: @p d as it is). */
+inline Eigen::Vector3f onGround(const Eigen::Vector3f& d, const Eigen::Vector3f& up)
+{
+  return d - d.dot(up) * up;
+}
+
 /** @brief Settings of the ground search. Lengths in metres, angles in radians. */
 struct GroundParams
 {
