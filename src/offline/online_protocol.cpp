@@ -88,7 +88,7 @@ struct OnlineSet
   std::vector<std::string> people;   // their people, sorted
   std::set<std::string> tuners;      // training people whose streams choose the thresholds
   std::vector<synth::SampleSpec> tuning, test;
-  /** One stream of each training person who does not tune: with the tuning streams, the no-action windows' sources. */
+  /** The streams of each training person who does not tune: with the tuning streams, the no-action windows' sources. */
   std::vector<synth::SampleSpec> no_action;
   std::vector<std::string> test_people;
   std::string dataset;               // --synth: ias or msr
@@ -114,23 +114,25 @@ std::vector<std::string> msrPool(const std::vector<std::string>& trained)
 }
 
 /**
- * One continuous stream of each of @p persons (training people: the tuning streams, and the sources
- * of the no-action and action windows), of @p count actions; --synth msr: drawn from @p pool.
+ * The continuous streams of each of @p persons (training people: the tuning streams, and the sources
+ * of the no-action and action windows), --training-streams of them (default 1), of @p count actions;
+ * --synth msr: drawn from @p pool.
  */
-std::vector<synth::SampleSpec> oneStreamEach(const Args& args, const std::vector<std::string>& persons, int count,
-                                             std::uint64_t seed, const std::vector<std::string>& pool)
+std::vector<synth::SampleSpec> trainingStreams(const Args& args, const std::vector<std::string>& persons, int count,
+                                               std::uint64_t seed, const std::vector<std::string>& pool)
 {
+  const int streams = static_cast<int>(args.integer("training-streams", 1, 1, 20));
   if (args.get("synth") == "msr")
-    return synth::msrStreamSamples(args.get("msr-dir"), persons, 1, count, seed, pool);
+    return synth::msrStreamSamples(args.get("msr-dir"), persons, streams, count, seed, pool);
   std::vector<synth::SampleSpec> out;
   for (const auto& p : persons)
-    for (const auto& s : synth::streamSamples(personNumber(p), 1, 1, count, seed))
+    for (const auto& s : synth::streamSamples(personNumber(p), 1, streams, count, seed))
       out.push_back(s);
   return out;
 }
 
 /**
- * --synth ias: trains on every sample given; tunes on one stream of each tuning person; tests on
+ * --synth ias: trains on every sample given; tunes on the streams of each tuning person; tests on
  * the streams of --stream-people new actors after the training people.
  */
 OnlineSet iasSet(const Args& args, const std::vector<SampleRef>& samples, int streams, int actions, std::uint64_t seed)
@@ -150,7 +152,7 @@ OnlineSet iasSet(const Args& args, const std::vector<SampleRef>& samples, int st
   if (last + stream_people > 99)
     throw UsageError("--stream-people: new actors would go past p99");
   for (const auto& p : out.people)
-    for (const auto& s : oneStreamEach(args, { p }, actions, seed, {}))
+    for (const auto& s : trainingStreams(args, { p }, actions, seed, {}))
       (out.tuners.count(p) ? out.tuning : out.no_action).push_back(s);
   out.test = synth::streamSamples(last + 1, stream_people, streams, actions, seed);
   for (const auto& s : out.test)
@@ -161,7 +163,7 @@ OnlineSet iasSet(const Args& args, const std::vector<SampleRef>& samples, int st
 
 /**
  * --synth msr: trains on the samples of the cross-subject training subjects (--train-persons); tunes
- * on one MSR stream of each tuning subject; tests on --streams MSR streams of every other subject.
+ * on the MSR streams of each tuning subject; tests on --streams MSR streams of every other subject.
  * The streams draw from the actions trained on (all 20, or those --actions keeps).
  */
 OnlineSet msrSet(const Args& args, const std::vector<SampleRef>& samples, int streams, int actions, std::uint64_t seed)
@@ -190,12 +192,12 @@ OnlineSet msrSet(const Args& args, const std::vector<SampleRef>& samples, int st
     throw UsageError("--protocol online: every MSR subject is in --train-persons; none is left to test on");
   out.tuners = tuningPeople(args, out.people);
   const std::vector<std::string> pool = msrPool(trained);
-  out.tuning = oneStreamEach(args, std::vector<std::string>(out.tuners.begin(), out.tuners.end()), actions, seed, pool);
+  out.tuning = trainingStreams(args, std::vector<std::string>(out.tuners.begin(), out.tuners.end()), actions, seed, pool);
   std::vector<std::string> others;
   for (const auto& p : out.people)
     if (!out.tuners.count(p))
       others.push_back(p);
-  out.no_action = oneStreamEach(args, others, actions, seed, pool);
+  out.no_action = trainingStreams(args, others, actions, seed, pool);
   out.test = synth::msrStreamSamples(args.get("msr-dir"), out.test_people, streams, actions, seed, pool);
   return out;
 }
@@ -334,6 +336,8 @@ void addOnlineOptions(Options& o)
       .value("stream-people", "N", "ias: new actors after the training people, one set of streams each (default 6)")
       .value("streams", "N", "streams per new actor (ias) or per test subject (msr) (default 1)")
       .value("stream-actions", "N", "actions (msr: MSR sequences) per stream (default 8)")
+      .value("training-streams", "N", "streams of each training person: of the tuning people to choose the "
+                                      "policy by, of the others for windows to learn from (default 1)")
       .value("tuning-people", "N", "training people whose streams choose the policy's thresholds, with a model "
                                    "trained on the other training people (default: a third)");
 }
@@ -624,7 +628,7 @@ std::size_t appendStreamWindows(const Args& args, const std::vector<SampleRef>& 
   persons = uniqueSorted(persons);
   const auto seed = static_cast<std::uint64_t>(args.integer("seed", 1, 0, 1000000000));
   const int count = static_cast<int>(args.integer("stream-actions", 8, 2, 40));
-  const std::vector<synth::SampleSpec> specs = oneStreamEach(args, persons, count, seed, msrPool(actions));
+  const std::vector<synth::SampleSpec> specs = trainingStreams(args, persons, count, seed, msrPool(actions));
   std::vector<SampleRef> refs;
   for (const auto& s : specs)
     refs.push_back(renderedSample(s));
@@ -675,6 +679,8 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, c
                   { "dataset", set.dataset },
                   { "training", { { "samples", training.size() }, { "people", set.people } } },
                   { "tuning_people", std::vector<std::string>(tuners.begin(), tuners.end()) },
+                  { "tuning_streams", streams.tuning },
+                  { "window_streams", streams.no_action },
                   { "test_people", set.test_people },
                   { "iou_threshold", 0.5 } };
   json results = json::array();

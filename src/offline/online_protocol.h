@@ -68,7 +68,7 @@ struct StreamWindowCounts
 };
 
 /**
- * train --no-action-windows N --action-windows M: renders one stream of every person of @p samples
+ * train --no-action-windows N --action-windows M: renders --training-streams streams (default 1) of every person of @p samples
  * (--synth ias: synthetic actors; --synth msr: MSR subjects, of the actions they train on), extracts
  * it with @p params and appends up to @p counts of its no-action and action windows (no_action.h)
  * to @p labelled, their indices to @p rows; @p store keeps their frames. Returns how many were added.

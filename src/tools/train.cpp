@@ -26,11 +26,12 @@ Options options()
       .value("cache", "DIR", "frame descriptor cache (default ~/.ros/action_flow/cache)")
       .value("no-action-windows", "N",
              "--synth ias|msr: also learn the class no_action from up to N windows of transitions and idle "
-             "periods in one continuous stream of each training person (for the online mode; default 0: none)")
+             "periods in the continuous streams of each training person (for the online mode; default 0: none)")
       .value("action-windows", "N",
              "--synth ias|msr: also learn each action from up to N 3 s windows of that stream that hold it with "
              "the transitions around it (default 0: none)")
       .value("stream-actions", "N", "actions in each of those streams (default 8)")
+      .value("training-streams", "N", "streams of each training person to take those windows from (default 1)")
       .flag("list-params", "print every parameter (name, type, default, doc) as markdown and exit");
   addSampleOptions(o);
   addMethodOptions(o);

@@ -212,6 +212,8 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   const nlohmann::json report = nlohmann::json::parse(in);
   const std::vector<std::string> training = report["training"]["people"];
   EXPECT_EQ(training, (std::vector<std::string>{ "p01", "p02", "p03" }));
+  EXPECT_EQ(report["tuning_streams"], 1) << "one stream of the tuning person, p03";
+  EXPECT_EQ(report["window_streams"], 2) << "one stream each of p01 and p02";
   ASSERT_EQ(report["variants"].size(), 1u);
   const nlohmann::json& v = report["variants"][0];
   EXPECT_EQ(v["variant"], "posture_flow");
@@ -243,12 +245,16 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
       EXPECT_EQ(c["no_action_windows"], idle_counts[k]);
       EXPECT_EQ(c["action_windows"], action_counts[a]);
       if (a == 0)
+      {
         EXPECT_EQ(c["action_samples"], 0);
+      }
       // (the streams draw from all 14 actions: only windows of wave, kick or sit_down can be learnt)
       EXPECT_GE(c["action_samples"].get<int>(), 0);
       EXPECT_EQ(c["samples"], without["samples"]) << "action windows change no no-action count";
       if (a > 0)
+      {
         EXPECT_GE(c["action_samples"].get<int>(), v["no_action_candidates"][(a - 1) * n_idle + k]["action_samples"].get<int>());
+      }
     }
   EXPECT_EQ(v["no_action_candidates"][0]["samples"], 0);
   const int six = v["no_action_candidates"][1]["samples"];
@@ -262,7 +268,9 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   const int chosen_actions = v["action_windows"];
   EXPECT_NE(std::find(action_counts.begin(), action_counts.end(), chosen_actions), action_counts.end()) << chosen_actions;
   if (chosen_actions == 0)
+  {
     EXPECT_EQ(v["action_window_samples"], 0);
+  }
 
   // train learns the class from the same streams (from the cache) when asked: one class more.
   const std::string base = kBin + "/train --synth ias --people 3 --repetitions 1 --actions wave,kick,sit_down" +
@@ -274,6 +282,11 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   ASSERT_EQ(open.status, 0) << open.output;
   EXPECT_NE(open.output.find(" 4 actions"), std::string::npos) << open.output;
   EXPECT_NE(open.output.find("no-action samples"), std::string::npos) << open.output;
+  EXPECT_NE(open.output.find("3 streams of the training people"), std::string::npos) << open.output;
+  // --training-streams: that many streams of each training person.
+  const Result twice = run(base + " --no-action-windows 6 --training-streams 2");
+  ASSERT_EQ(twice.status, 0) << twice.output;
+  EXPECT_NE(twice.output.find("6 streams of the training people"), std::string::npos) << twice.output;
   // Action windows add samples of the actions it knows, no class (all 15, so that the streams'
   // actions are among them).
   const auto sequences = [](const std::string& output) {
