@@ -103,6 +103,12 @@ struct TrackerParams
    *  chair or table beside a person whose detection is missing for a frame is then not taken for
    *  them. 1 turns it off. */
   float weak_max_colour_distance = 0.35f;
+  /** A confirmed track continued only by clusters lower than min_height for this long (s) is lost:
+   *  it has gone on to a chair, a table or a box beside the person (a phantom track that would be
+   *  labelled for as long as the furniture stands). A person crouches or bends for less; one who
+   *  stays down longer is a new track when they stand up, and gets their id back
+   *  (re-identification). 0 turns it off. */
+  double low_lost_after = 4.0;
 
   // ---- added against cluttered rooms (evaluate --protocol detection) ----
   /** Walls (vertical planes at least 0.6 m wide and 1.2 m tall reaching 2.1 m above the ground, with
@@ -183,6 +189,7 @@ struct TrackerParams
     v("tracked_min_height", p.tracked_min_height, "m: a confirmed track continues on clusters this low", s);
     v("tracked_max_width", p.tracked_max_width, "m: ... and this wide", s);
     v("weak_max_colour_distance", p.weak_max_colour_distance, "... and colours this close to the track's (Hellinger, 0-1; 1 = off)", s);
+    v("low_lost_after", p.low_lost_after, "s: a track seen only lower than min_height this long is lost (0 = off)", s);
     v("remove_walls", p.remove_walls, "remove walls before clustering", s);
     v("max_head_ratio", p.max_head_ratio, "a new person's head width / shoulder width at most (0 = off)", s);
     v("hidden_lost_after", p.hidden_lost_after, "s: a track hidden behind a nearer person is kept this long", s);

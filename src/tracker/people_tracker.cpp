@@ -20,6 +20,7 @@ struct Track
   std::uint32_t id = 0;  // 0 until confirmed
   int hits = 1;
   double last_seen = 0.0;
+  double last_tall = 0.0;  // when a cluster at least min_height high last continued it
   Eigen::Vector3f last_position = Eigen::Vector3f::Zero();  // the centroid when last seen
   Appearance appearance;                                     // while confirmed
   bool fresh = false;     // confirmed in this frame: may be a lost person coming back (reid_after)
@@ -270,7 +271,10 @@ std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetec
   for (std::size_t i = 0; i < tracks.size(); ++i)
   {
     Track& t = tracks[i];
-    if (match[i] >= 0)
+    if (match[i] >= 0 && people[match[i]].height >= params.min_height)
+      t.last_tall = stamp;
+    const bool low_too_long = t.id != 0 && params.low_lost_after > 0.0 && stamp - t.last_tall > params.low_lost_after;
+    if (match[i] >= 0 && !low_too_long)
     {
       used[match[i]] = 1;
       t.filter.correct(people[match[i]].centroid);
@@ -286,8 +290,8 @@ std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetec
     {
       // A tentative track missing a frame was most likely clutter: dropped silently.
     }
-    else if (stamp - t.last_seen > params.lost_after &&
-             (stamp - t.last_seen > params.hidden_lost_after || !hiddenBySomeone(t.filter.position())))
+    else if (low_too_long || (stamp - t.last_seen > params.lost_after &&
+                              (stamp - t.last_seen > params.hidden_lost_after || !hiddenBySomeone(t.filter.position()))))
     {
       lost.push_back(t.id);
       if (params.reid_after > 0.0 && t.appearance.frames() > 0)
@@ -304,6 +308,7 @@ std::vector<int> PeopleTracker::Impl::updateTracks(const std::vector<PersonDetec
     {
       Track t(ConstantVelocityFilter(people[j].centroid));
       t.last_seen = stamp;
+      t.last_tall = stamp;
       t.last_position = people[j].centroid;
       if (params.confirm_after <= 1)
         confirm(t);

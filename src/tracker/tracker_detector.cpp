@@ -224,6 +224,7 @@ void validateTrackerParams(const TrackerParams& p)
   require(std::isfinite(p.hidden_lost_after) && p.hidden_lost_after >= p.lost_after,
           "hidden_lost_after must be at least lost_after");
   require(std::isfinite(p.reid_after) && p.reid_after >= 0, "reid_after must be finite and not negative");
+  require(std::isfinite(p.low_lost_after) && p.low_lost_after >= 0, "low_lost_after must be finite and not negative");
   require(std::isfinite(p.weak_max_colour_distance) && p.weak_max_colour_distance >= 0 && p.weak_max_colour_distance <= 1,
           "weak_max_colour_distance must be in [0, 1]");
   require(std::isfinite(p.reid_max_colour_distance) && p.reid_max_colour_distance >= 0 && p.reid_max_colour_distance <= 1,
