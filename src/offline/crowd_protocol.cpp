@@ -31,6 +31,9 @@ using json = nlohmann::json;
 /** A segment is scored when the person counts (crowd.h: head seen, enough of them with depth) in at
  *  least this share of its frames with nobody else in view: what the camera could show of them. */
 constexpr double kShownShare = 0.5;
+/** An action counts as in plain view with everyone there when its person counts in at least this
+ *  share of its frames with the others in view too (not hidden behind them). */
+constexpr double kVisibleShare = 0.9;
 /** The label of a segment whose person no track followed. */
 const char* const kUntracked = "untracked";
 
@@ -279,7 +282,7 @@ json scoreVariant(const RecognizerVariant& v, std::size_t e, const std::vector<S
   std::vector<std::string> labels = classifier.classes();
   labels.push_back(kUntracked);
   Confusion alone_confusion(labels), together_confusion(labels);
-  Tally all;
+  Tally all, visible;
   std::map<std::string, Tally> by_person, by_action;
   int not_shown = 0, not_trained = 0;
   for (std::size_t s = 0; s < scenes.size(); ++s)
@@ -310,6 +313,8 @@ json scoreVariant(const RecognizerVariant& v, std::size_t e, const std::vector<S
         alone_confusion.add(seg.action, r.alone);
         together_confusion.add(seg.action, r.together);
         all.add(r);
+        if (r.shown_together >= kVisibleShare)
+          visible.add(r);
         by_person[scenes[s].name() + "/" + person.actor].add(r);
         by_action[seg.action].add(r);
         char line[512];
@@ -341,6 +346,7 @@ json scoreVariant(const RecognizerVariant& v, std::size_t e, const std::vector<S
   r["together_untracked"] = together_untracked;
   r["segments_not_shown"] = not_shown;
   r["segments_not_trained"] = not_trained;
+  r["visible"] = visible.toJson();
   r["per_person"] = per_person;
   r["per_action"] = per_action;
   r["alone_confusion"] = confusionJson(alone_confusion);
@@ -350,6 +356,9 @@ json scoreVariant(const RecognizerVariant& v, std::size_t e, const std::vector<S
   std::printf("%-40s %d actions: alone %5.1f%%, together %5.1f%% (%+.1f points); untracked %d alone, %d together\n",
               v.title.c_str(), all.segments, 100.0 * r["alone"].get<double>(), 100.0 * r["together"].get<double>(),
               100.0 * r["difference"].get<double>(), alone_untracked, together_untracked);
+  std::printf("%-40s %d of them in plain view together: alone %5.1f%%, together %5.1f%% (%+.1f points)\n", "",
+              visible.segments, 100.0 * r["visible"]["alone"].get<double>(),
+              100.0 * r["visible"]["together"].get<double>(), 100.0 * r["visible"]["difference"].get<double>());
   return r;
 }
 
@@ -438,6 +447,7 @@ int runCrowdProtocol(const Args& args, const std::vector<SampleRef>& samples,
                         { "scenes", scene_list },
                         { "gate_m", gate },
                         { "shown_share", kShownShare },
+                        { "visible_share", kVisibleShare },
                         { "match", "per frame, track to person by ground-plane distance within the gate (as evaluate_tracking); "
                                    "an action's rows are those of the track matched to the person in most of its frames" },
                         { "variants", results } };

@@ -357,7 +357,7 @@ TEST(Tools, CrowdProtocolScoresEachNewPersonAloneAndAmongOthers)
   std::ifstream csv(out + "/segments.csv");
   std::string line;
   std::getline(csv, line);
-  int lines = 0;
+  int lines = 0, in_plain_view = 0;
   while (std::getline(csv, line))
   {
     ++lines;
@@ -370,8 +370,14 @@ TEST(Tools, CrowdProtocolScoresEachNewPersonAloneAndAmongOthers)
     ASSERT_EQ(fields.size(), 13u) << line;
     EXPECT_NE(fields[9], "untracked") << line;  // the label alone
     EXPECT_NE(fields[11], "0") << line;         // the track alone
+    in_plain_view += std::stod(fields[8]) >= 0.9 ? 1 : 0;  // shown together
   }
   EXPECT_EQ(lines, segments);
+  // The actions in plain view with everyone there (shown together in 90% of their frames or more).
+  EXPECT_EQ(report["visible_share"], 0.9);
+  EXPECT_EQ(v["visible"]["segments"], in_plain_view);
+  EXPECT_NEAR(v["visible"]["difference"].get<double>(),
+              v["visible"]["together"].get<double>() - v["visible"]["alone"].get<double>(), 1e-9);
   std::ifstream matrix(out + "/crowd_confusion_posture_flow_together.csv");
   EXPECT_TRUE(matrix.good());
 
