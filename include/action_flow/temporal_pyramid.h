@@ -144,8 +144,10 @@ Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFl
  *        equal parts; each part gives the mean of the frames whose stamps fall in it (the frame
  *        nearest its middle when none does). Parts are concatenated, whole sequence first, then
  *        halves, then quarters; with @p power each value v becomes sign(v) sqrt(|v|) (a power
- *        normalisation that keeps large motions from swamping small ones; for shares and flow,
- *        not for coordinates).
+ *        normalisation that keeps large motions from swamping small ones). ActionModel applies it
+ *        to every value of the default recognizer, the geometry block's coordinates too (leaving
+ *        those plain made no difference on MSR Action3D's training subjects, docs/evaluation.md);
+ *        the joint-position baseline leaves its coordinates plain.
  * @param frames frame feature vectors, all of one length, in time order
  * @param stamps their stamps (non-decreasing)
  * @param levels 1..4
