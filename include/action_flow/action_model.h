@@ -125,9 +125,11 @@ struct ActionModel
    * Bumped whenever the layout of the file changes; other versions are refused with a clear
    * message. Version 4 stores the parameters by name (param_table.h), so adding one no longer
    * changes the layout; files of versions 1-3 must be retrained. Version 5 adds the linear
-   * classifier's temperature; version 4 files still load, uncalibrated.
+   * classifier's temperature; version 4 files still load, uncalibrated. Version 6 changes a
+   * default, not the layout: the temporal pyramid's maxima (pyramid/max_pooling) are on, and
+   * files of versions 4 and 5, which do not name them, load with them off, as they were trained.
    */
-  static constexpr std::uint32_t kFormatVersion = 5;
+  static constexpr std::uint32_t kFormatVersion = 6;
   static constexpr std::uint32_t kOldestReadableVersion = 4;
 
   RecognitionParams params;

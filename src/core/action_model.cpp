@@ -126,10 +126,14 @@ void putParams(Writer& w, const RecognitionParams& p)
   }
 }
 
-// Parameters the file does not name keep the struct's defaults (a newer build may add some).
-RecognitionParams getParams(Reader& r)
+// Parameters the file does not name keep the struct's defaults (a newer build may add some), except
+// those whose default changed with the format: a file of @p version 5 or older was written before
+// the pyramid's maxima, and its weights are for means only.
+RecognitionParams getParams(Reader& r, std::uint32_t version)
 {
   RecognitionParams p;
+  if (version < 6)
+    p.pyramid.max_pooling = false;
   const auto n = r.get<std::uint64_t>();
   if (n > 1000)
     r.fail("implausible number of parameters " + std::to_string(n));
@@ -286,7 +290,7 @@ ActionModel ActionModel::load(const std::string& path)
   if (std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
     header.fail("not an action_flow model (bad magic)");
   const auto version = header.get<std::uint32_t>();
-  if (version != kFormatVersion && version != kOldestReadableVersion)
+  if (version < kOldestReadableVersion || version > kFormatVersion)
     header.fail("format version " + std::to_string(version) + ", this build reads versions " +
                 std::to_string(kOldestReadableVersion) + "-" + std::to_string(kFormatVersion) +
                 "; retrain the model with this build's train");
@@ -302,7 +306,7 @@ ActionModel ActionModel::load(const std::string& path)
 
   Reader r(payload, path);
   ActionModel m;
-  m.params = getParams(r);
+  m.params = getParams(r, version);
   Eigen::MatrixXf mean = r.getMatrix(), basis = r.getMatrix(), variances = r.getMatrix();
   if (basis.size() > 0)
   {
@@ -359,7 +363,7 @@ Eigen::Index ActionModel::sequenceLength() const
     return static_cast<Eigen::Index>(pca.empty() ? 3 * params.grid.cells() : pca.outputSize()) * params.frames;
   const PostureFlowDescriptor layout(params.grid);
   const Eigen::VectorXf probe = selectFrameFeatures(Eigen::VectorXf::Zero(layout.size()), layout, params.pyramid);
-  return probe.size() * pyramidParts(params.pyramid.temporal_levels);
+  return probe.size() * pyramidParts(params.pyramid.temporal_levels) * (params.pyramid.max_pooling ? 2 : 1);
 }
 
 Eigen::VectorXf ActionModel::sequence(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps) const
@@ -371,7 +375,8 @@ Eigen::VectorXf ActionModel::sequence(const std::vector<Eigen::VectorXf>& frames
   selected.reserve(frames.size());
   for (const auto& f : frames)
     selected.push_back(selectFrameFeatures(f, layout, params.pyramid));
-  return temporalPyramid(selected, stamps, params.pyramid.temporal_levels);
+  return temporalPyramid(selected, stamps, params.pyramid.temporal_levels, true,
+                         params.pyramid.max_pooling ? Pooling::MeanMax : Pooling::Mean);
 }
 
 SequenceClassifier ActionModel::classifier() const

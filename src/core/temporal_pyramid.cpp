@@ -1,6 +1,7 @@
 #include <action_flow/temporal_pyramid.h>
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace action_flow
@@ -62,7 +63,7 @@ int pyramidParts(int levels)
 }
 
 Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps,
-                                int levels, bool power)
+                                int levels, bool power, Pooling pooling)
 {
   if (frames.empty() || frames.size() != stamps.size())
     throw std::invalid_argument("temporalPyramid: needs as many stamps as frames, and at least one frame");
@@ -83,7 +84,8 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
       return (stamps[i] - t0) / span;
     return frames.size() > 1 ? static_cast<double>(i) / static_cast<double>(frames.size() - 1) : 0.0;
   };
-  Eigen::VectorXf out(length * pyramidParts(levels));
+  const bool with_max = pooling == Pooling::MeanMax;
+  Eigen::VectorXf out(length * pyramidParts(levels) * (with_max ? 2 : 1));
   Eigen::Index at = 0;
   for (int l = 0; l < levels; ++l)
   {
@@ -92,6 +94,7 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
     {
       // Part p covers positions [p/parts, (p+1)/parts), the last one closed.
       Eigen::VectorXf sum = Eigen::VectorXf::Zero(length);
+      Eigen::VectorXf peak = Eigen::VectorXf::Constant(length, -std::numeric_limits<float>::infinity());
       int n = 0;
       for (std::size_t i = 0; i < frames.size(); ++i)
       {
@@ -99,6 +102,7 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
         if (in == p)
         {
           sum += frames[i];
+          peak = peak.cwiseMax(frames[i]);
           ++n;
         }
       }
@@ -115,17 +119,20 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
             best = i;
           }
         }
-        sum = frames[best];
+        sum = peak = frames[best];
         n = 1;
       }
       out.segment(at, length) = sum / static_cast<float>(n);
-      if (power)
-        out.segment(at, length) = out.segment(at, length).unaryExpr([](float v) {
-          return std::copysign(std::sqrt(std::abs(v)), v);
-        });
       at += length;
+      if (with_max)
+      {
+        out.segment(at, length) = peak;
+        at += length;
+      }
     }
   }
+  if (power)
+    out = out.unaryExpr([](float v) { return std::copysign(std::sqrt(std::abs(v)), v); });
   return out;
 }
 

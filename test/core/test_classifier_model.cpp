@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <algorithm>
@@ -314,6 +315,37 @@ TEST(ActionModel, Version4FilesLoadUncalibrated)
   EXPECT_EQ(back.linear.temperature(), 0.0);
   rewriteAsVersion(path, ActionModel::kFormatVersion, [](std::string&) {});
   EXPECT_THROW(ActionModel::load(path), ModelError);
+  std::remove(path.c_str());
+}
+
+// A version 5 file (before the pyramid's maxima) does not name pyramid/max_pooling: it loads with
+// them off, so its weights meet sequence descriptors of means only, as it was trained; a version 6
+// file without the name gets today's default, maxima on.
+TEST(ActionModel, Version5FilesLoadWithMeansOnly)
+{
+  ActionModel m = smallModel();
+  ASSERT_TRUE(m.params.pyramid.max_pooling);
+  const std::string path = tempPath("v5.model");
+  const auto strip = [](std::string& payload) {
+    // The parameters come first: a count, then (name, value) strings, each a 64-bit length and its bytes.
+    const std::string name = "pyramid/max_pooling";
+    const auto at = payload.find(name);
+    ASSERT_NE(at, std::string::npos);
+    const std::size_t entry = at - 8;
+    std::uint64_t value_length = 0;
+    std::memcpy(&value_length, payload.data() + at + name.size(), 8);
+    payload.erase(entry, 8 + name.size() + 8 + value_length);
+    std::uint64_t count = 0;
+    std::memcpy(&count, payload.data(), 8);
+    --count;
+    std::memcpy(&payload[0], &count, 8);
+  };
+  m.save(path);
+  rewriteAsVersion(path, 5, strip);
+  EXPECT_FALSE(ActionModel::load(path).params.pyramid.max_pooling);
+  m.save(path);
+  rewriteAsVersion(path, ActionModel::kFormatVersion, strip);
+  EXPECT_TRUE(ActionModel::load(path).params.pyramid.max_pooling);
   std::remove(path.c_str());
 }
 

@@ -221,6 +221,35 @@ TEST(TemporalPyramid, MeansOfWholeHalvesAndQuarters)
   EXPECT_THROW(temporalPyramid(frames, stamps, 0), std::invalid_argument);
 }
 
+TEST(TemporalPyramid, MaximaBesideTheMeans)
+{
+  // Two values a frame: a rise 1, 4, 9, 16 and a dip 0, -1, -9, 0.
+  std::vector<Eigen::VectorXf> frames;
+  const float rise[] = { 1, 4, 9, 16 }, dip[] = { 0, -1, -9, 0 };
+  for (int i = 0; i < 4; ++i)
+    frames.push_back(Eigen::Vector2f(rise[i], dip[i]));
+  const std::vector<double> stamps = { 0.0, 0.1, 0.2, 0.3 };
+  const Eigen::VectorXf p = temporalPyramid(frames, stamps, 2, false, Pooling::MeanMax);
+  // Per part (whole, first half, second half): the two means, then the two maxima.
+  const float expected[] = { 7.5f, -2.5f, 16, 0,  2.5f, -0.5f, 4, 0,  12.5f, -4.5f, 16, 0 };
+  ASSERT_EQ(p.size(), 12);
+  for (int i = 0; i < 12; ++i)
+    EXPECT_NEAR(p[i], expected[i], 1e-6f) << "value " << i;
+  // Power-normalised as the means are; the means are those of Pooling::Mean.
+  const Eigen::VectorXf root = temporalPyramid(frames, stamps, 2, true, Pooling::MeanMax);
+  for (int i = 0; i < 12; ++i)
+    EXPECT_NEAR(root[i], std::copysign(std::sqrt(std::abs(expected[i])), expected[i]), 1e-6f) << "value " << i;
+  const Eigen::VectorXf means = temporalPyramid(frames, stamps, 2, false);
+  ASSERT_EQ(means.size(), 6);
+  EXPECT_EQ(means.segment<2>(0), p.segment<2>(0));
+  EXPECT_EQ(means.segment<2>(4), p.segment<2>(8));
+  // A part no frame falls in takes the frame nearest its middle, for its maximum too.
+  const Eigen::VectorXf sparse = temporalPyramid({ frames[0], frames[3] }, { 0.0, 1.0 }, 3, false, Pooling::MeanMax);
+  ASSERT_EQ(sparse.size(), 28);
+  EXPECT_EQ(sparse.segment<4>(12), Eigen::Vector4f(1, 0, 1, 0));  // the first quarter: frame 0 only
+  EXPECT_EQ(sparse.segment<4>(20), Eigen::Vector4f(16, 0, 16, 0));  // the third: empty, frame 3 is nearest
+}
+
 namespace
 {
 // Two clouds of points around (+1, 0...) and (-1, 0...) in 5 dimensions, plus a third class at the origin.
