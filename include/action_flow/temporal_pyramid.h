@@ -1,7 +1,7 @@
 /**
  * @file temporal_pyramid.h
  * @brief The default recognizer's sequence descriptor: which parts of the posture-and-flow frame
- *        descriptor it uses, and a temporal pyramid of their means that does not depend on the
+ *        descriptor it uses, and a temporal pyramid of their means and maxima that does not depend on the
  *        number of frames or on how fast the action was performed.
  */
 #pragma once
