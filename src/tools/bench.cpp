@@ -412,11 +412,14 @@ void loadCachedSequences(const Options& o, std::vector<DescriptorSequence>& trai
 
 // The default recognizer's classification: temporal pyramid of posture-and-flow frames, then the
 // linear classifier (a product with the weights), on generated sequences of the same shape.
-void benchPostureFlowClassification(const Options& o)
+// The default recognizer's classification; @p max_pooling false is the previous default's pyramid
+// of means only, timed in the same run beside it.
+void benchPostureFlowClassification(const Options& o, bool max_pooling)
 {
   const int actions = 15;
   ActionModel model;
   model.params = defaultRecognitionParams();
+  model.params.pyramid.max_pooling = max_pooling;
   model.params.pyramid.c = 0.01;
   model.params.pyramid.flow = FlowEncoding::Bins;
   model.params.pyramid.mirror = MirrorMode::Off;
@@ -443,9 +446,10 @@ void benchPostureFlowClassification(const Options& o)
   LinearClassifier::train(model.descriptors, model.labels, model.params.pyramid.c, false);
   const double t_full = w.lap();
   const SequenceClassifier classifier = model.classifier();
-  std::printf("\n### Classification, posture_flow: %zu training sequences of %d actions, %zu queries, generated; "
-              "%ld values per sequence\n",
-              train.size(), actions, queries.size(), static_cast<long>(model.sequenceLength()));
+  std::printf("\n### Classification, posture_flow (%s): %zu training sequences of %d actions, %zu queries, "
+              "generated; %ld values per sequence\n",
+              max_pooling ? "the default, means and maxima" : "means only, the previous default", train.size(),
+              actions, queries.size(), static_cast<long>(model.sequenceLength()));
   std::printf("sequence descriptors %.2f s; training the linear classifier: %.2f s in the sequences' span, %.2f s "
               "over all values (%.1fx)\n",
               t_describe, t_span, t_full, t_full / std::max(1e-9, t_span));
@@ -819,7 +823,8 @@ int main(int argc, char** argv)
     if (o.classification)
     {
       benchClassification(o);
-      benchPostureFlowClassification(o);
+      for (bool max_pooling : { true, false })
+        benchPostureFlowClassification(o, max_pooling);
     }
   }
   catch (const std::exception& e)
