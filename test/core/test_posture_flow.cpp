@@ -396,7 +396,7 @@ TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
   m.params.pyramid.flow = FlowEncoding::Bins;
   m.params.pyramid.mirror = MirrorMode::Off;
   const Eigen::Index length = m.sequenceLength();
-  EXPECT_EQ(length, (511 + kGeometryValues) * 7);
+  EXPECT_EQ(length, (511 + kGeometryValues) * 7 * 2);  // 7 parts, each its means and maxima
   m.descriptors = Eigen::MatrixXf::Zero(x.rows(), length);
   m.descriptors.leftCols(5) = x;
   m.labels = labels;
