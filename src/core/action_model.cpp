@@ -131,8 +131,9 @@ void putParams(Writer& w, const RecognitionParams& p)
 // the pyramid's maxima, and its weights are for means only.
 RecognitionParams getParams(Reader& r, std::uint32_t version)
 {
+  constexpr std::uint32_t kFirstVersionWithMaxima = 6;
   RecognitionParams p;
-  if (version < 6)
+  if (version < kFirstVersionWithMaxima)
     p.pyramid.max_pooling = false;
   const auto n = r.get<std::uint64_t>();
   if (n > 1000)

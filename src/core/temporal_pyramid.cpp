@@ -102,7 +102,8 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
         if (in == p)
         {
           sum += frames[i];
-          peak = peak.cwiseMax(frames[i]);
+          if (with_max)
+            peak = peak.cwiseMax(frames[i]);
           ++n;
         }
       }
