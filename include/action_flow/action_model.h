@@ -128,8 +128,10 @@ struct ActionModel
    * classifier's temperature; version 4 files still load, uncalibrated. Version 6 changes a
    * default, not the layout: the temporal pyramid's maxima (pyramid/max_pooling) are on, and
    * files of versions 4 and 5, which do not name them, load with them off, as they were trained.
+   * Version 7 likewise turns on the pyramid's Fourier magnitudes (pyramid/fourier); older files
+   * load with none.
    */
-  static constexpr std::uint32_t kFormatVersion = 6;
+  static constexpr std::uint32_t kFormatVersion = 7;
   static constexpr std::uint32_t kOldestReadableVersion = 4;
 
   RecognitionParams params;

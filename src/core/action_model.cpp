@@ -128,13 +128,16 @@ void putParams(Writer& w, const RecognitionParams& p)
 
 // Parameters the file does not name keep the struct's defaults (a newer build may add some), except
 // those whose default changed with the format: a file of @p version 5 or older was written before
-// the pyramid's maxima, and its weights are for means only.
+// the pyramid's maxima, and its weights are for means only; one of version 6 or older, before its
+// Fourier magnitudes.
 RecognitionParams getParams(Reader& r, std::uint32_t version)
 {
-  constexpr std::uint32_t kFirstVersionWithMaxima = 6;
+  constexpr std::uint32_t kFirstVersionWithMaxima = 6, kFirstVersionWithFourier = 7;
   RecognitionParams p;
   if (version < kFirstVersionWithMaxima)
     p.pyramid.max_pooling = false;
+  if (version < kFirstVersionWithFourier)
+    p.pyramid.fourier = 0;
   const auto n = r.get<std::uint64_t>();
   if (n > 1000)
     r.fail("implausible number of parameters " + std::to_string(n));
@@ -157,6 +160,8 @@ RecognitionParams getParams(Reader& r, std::uint32_t version)
   }
   if (p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
     r.fail("temporal pyramid levels " + std::to_string(p.pyramid.temporal_levels) + " outside 1..4");
+  if (p.pyramid.fourier < 0 || p.pyramid.fourier > kMaxFourier)
+    r.fail("Fourier coefficients " + std::to_string(p.pyramid.fourier) + " outside 0.." + std::to_string(kMaxFourier));
   if (!(p.pyramid.geometry_weight >= 0.0f))
     r.fail("geometry weight " + std::to_string(p.pyramid.geometry_weight) + " is not a finite value >= 0");
   return p;
@@ -364,7 +369,7 @@ Eigen::Index ActionModel::sequenceLength() const
     return static_cast<Eigen::Index>(pca.empty() ? 3 * params.grid.cells() : pca.outputSize()) * params.frames;
   const PostureFlowDescriptor layout(params.grid);
   const Eigen::VectorXf probe = selectFrameFeatures(Eigen::VectorXf::Zero(layout.size()), layout, params.pyramid);
-  return probe.size() * pyramidParts(params.pyramid.temporal_levels) * (params.pyramid.max_pooling ? 2 : 1);
+  return probe.size() * pyramidParts(params.pyramid.temporal_levels) * params.pyramid.pooling().blocks();
 }
 
 Eigen::VectorXf ActionModel::sequence(const std::vector<Eigen::VectorXf>& frames, const std::vector<double>& stamps) const
@@ -376,8 +381,7 @@ Eigen::VectorXf ActionModel::sequence(const std::vector<Eigen::VectorXf>& frames
   selected.reserve(frames.size());
   for (const auto& f : frames)
     selected.push_back(selectFrameFeatures(f, layout, params.pyramid));
-  return temporalPyramid(selected, stamps, params.pyramid.temporal_levels, true,
-                         params.pyramid.max_pooling ? Pooling::MeanMax : Pooling::Mean);
+  return temporalPyramid(selected, stamps, params.pyramid.temporal_levels, true, params.pyramid.pooling());
 }
 
 SequenceClassifier ActionModel::classifier() const

@@ -1,7 +1,6 @@
 #include <action_flow/temporal_pyramid.h>
 
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 namespace action_flow
@@ -69,6 +68,8 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
     throw std::invalid_argument("temporalPyramid: needs as many stamps as frames, and at least one frame");
   if (levels < 1 || levels > 4)
     throw std::invalid_argument("temporalPyramid: levels must be 1..4");
+  if (pooling.fourier < 0 || pooling.fourier > kMaxFourier)
+    throw std::invalid_argument("temporalPyramid: Fourier coefficients must be 0.." + std::to_string(kMaxFourier));
   const Eigen::Index length = frames.front().size();
   for (std::size_t i = 0; i < frames.size(); ++i)
   {
@@ -84,30 +85,20 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
       return (stamps[i] - t0) / span;
     return frames.size() > 1 ? static_cast<double>(i) / static_cast<double>(frames.size() - 1) : 0.0;
   };
-  const bool with_max = pooling == Pooling::MeanMax;
-  Eigen::VectorXf out(length * pyramidParts(levels) * (with_max ? 2 : 1));
+  Eigen::VectorXf out(length * pyramidParts(levels) * pooling.blocks());
   Eigen::Index at = 0;
+  std::vector<std::size_t> members;  // the frames of the part at hand
   for (int l = 0; l < levels; ++l)
   {
     const int parts = 1 << l;
     for (int p = 0; p < parts; ++p)
     {
       // Part p covers positions [p/parts, (p+1)/parts), the last one closed.
-      Eigen::VectorXf sum = Eigen::VectorXf::Zero(length);
-      Eigen::VectorXf peak = Eigen::VectorXf::Constant(length, -std::numeric_limits<float>::infinity());
-      int n = 0;
+      members.clear();
       for (std::size_t i = 0; i < frames.size(); ++i)
-      {
-        const int in = std::min(parts - 1, static_cast<int>(position(i) * parts));
-        if (in == p)
-        {
-          sum += frames[i];
-          if (with_max)
-            peak = peak.cwiseMax(frames[i]);
-          ++n;
-        }
-      }
-      if (n == 0)  // a part no frame falls in: the frame nearest its middle
+        if (std::min(parts - 1, static_cast<int>(position(i) * parts)) == p)
+          members.push_back(i);
+      if (members.empty())  // a part no frame falls in: the frame nearest its middle
       {
         const double middle = (p + 0.5) / parts;
         std::size_t best = 0;
@@ -120,14 +111,35 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
             best = i;
           }
         }
-        sum = peak = frames[best];
-        n = 1;
+        members.push_back(best);
       }
-      out.segment(at, length) = sum / static_cast<float>(n);
+      const float n = static_cast<float>(members.size());
+      Eigen::VectorXf sum = Eigen::VectorXf::Zero(length);
+      for (std::size_t i : members)
+        sum += frames[i];
+      const Eigen::VectorXf mean = sum / n;
+      out.segment(at, length) = mean;
       at += length;
-      if (with_max)
+      if (pooling.maxima)
       {
+        Eigen::VectorXf peak = frames[members.front()];
+        for (std::size_t i : members)
+          peak = peak.cwiseMax(frames[i]);
         out.segment(at, length) = peak;
+        at += length;
+      }
+      for (int k = 1; k <= pooling.fourier; ++k)
+      {
+        // Coefficient k of the part's frames, taken in order (equal steps, as the stamps nearly are),
+        // less their mean: the same for 0 < k < n, and 0 where k aliases to the mean (k = n, 2n...).
+        Eigen::VectorXf re = Eigen::VectorXf::Zero(length), im = Eigen::VectorXf::Zero(length);
+        for (std::size_t j = 0; j < members.size(); ++j)
+        {
+          const double angle = 2.0 * M_PI * k * static_cast<double>(j) / static_cast<double>(members.size());
+          re += (frames[members[j]] - mean) * static_cast<float>(std::cos(angle));
+          im -= (frames[members[j]] - mean) * static_cast<float>(std::sin(angle));
+        }
+        out.segment(at, length) = (re.array().square() + im.array().square()).sqrt().matrix() / n;
         at += length;
       }
     }

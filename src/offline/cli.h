@@ -331,6 +331,7 @@ inline void addMethodOptions(Options& o)
       .value("c", "C", "posture_flow: the linear classifier's C (default: chosen by cross-validation over the "
                        "training people)")
       .value("temporal-levels", "N", "posture_flow: pyramid levels, 1 = whole sequence only (default 3)")
+      .value("fourier", "N", "posture_flow: Fourier magnitudes per pyramid part, 0 = none (default 6)")
       .flag("no-posture", "posture_flow: without the cells' shares of the body (an ablation)")
       .flag("no-direction-histogram", "posture_flow: the flow as signed sums, not direction bins")
       .flag("direction-histogram", "posture_flow: the flow as direction bins (default: chosen by cross-validation)")
@@ -378,6 +379,7 @@ inline RecognitionParams methodParams(const Args& a)
   p.pyramid.classifier = choiceOption(a, "classifier", p.pyramid.classifier);
   p.pyramid.c = a.number("c", p.pyramid.c);
   p.pyramid.temporal_levels = static_cast<int>(a.integer("temporal-levels", p.pyramid.temporal_levels, 1, 4));
+  p.pyramid.fourier = static_cast<int>(a.integer("fourier", p.pyramid.fourier, 0, kMaxFourier));
   if (a.has("no-posture"))
     p.pyramid.posture = PostureMode::Off;
   if (a.has("no-direction-histogram"))

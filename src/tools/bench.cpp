@@ -412,14 +412,15 @@ void loadCachedSequences(const Options& o, std::vector<DescriptorSequence>& trai
 
 // The default recognizer's classification: temporal pyramid of posture-and-flow frames, then the
 // linear classifier (a product with the weights), on generated sequences of the same shape.
-// The default recognizer's classification; @p max_pooling false is the previous default's pyramid
-// of means only, timed in the same run beside it.
-void benchPostureFlowClassification(const Options& o, bool max_pooling)
+// The default recognizer's classification; @p fourier false is the previous default's pyramid of
+// means and maxima, without the Fourier magnitudes, timed in the same run beside it.
+void benchPostureFlowClassification(const Options& o, bool fourier)
 {
   const int actions = 15;
   ActionModel model;
   model.params = defaultRecognitionParams();
-  model.params.pyramid.max_pooling = max_pooling;
+  if (!fourier)
+    model.params.pyramid.fourier = 0;
   model.params.pyramid.c = 0.01;
   model.params.pyramid.flow = FlowEncoding::Bins;
   model.params.pyramid.mirror = MirrorMode::Off;
@@ -448,7 +449,8 @@ void benchPostureFlowClassification(const Options& o, bool max_pooling)
   const SequenceClassifier classifier = model.classifier();
   std::printf("\n### Classification, posture_flow (%s): %zu training sequences of %d actions, %zu queries, "
               "generated; %ld values per sequence\n",
-              max_pooling ? "the default, means and maxima" : "means only, the previous default", train.size(),
+              fourier ? "the default, means, maxima and Fourier magnitudes" : "means and maxima, the previous default",
+              train.size(),
               actions, queries.size(), static_cast<long>(model.sequenceLength()));
   std::printf("sequence descriptors %.2f s; training the linear classifier: %.2f s in the sequences' span, %.2f s "
               "over all values (%.1fx)\n",
@@ -823,8 +825,8 @@ int main(int argc, char** argv)
     if (o.classification)
     {
       benchClassification(o);
-      for (bool max_pooling : { true, false })
-        benchPostureFlowClassification(o, max_pooling);
+      for (bool fourier : { true, false })
+        benchPostureFlowClassification(o, fourier);
     }
   }
   catch (const std::exception& e)

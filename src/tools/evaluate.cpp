@@ -45,7 +45,7 @@ Options options()
                                          "s01,s03,s05,s07,s09); the others are tested")
       .value("variants", "v1,v2,...",
              "of posture_flow, posture_flow_no_posture, posture_flow_choose_posture, posture_flow_no_geometry, posture_flow_sums, "
-             "posture_flow_bins, posture_flow_single_level, posture_flow_no_pyramid, posture_flow_means_only, posture_flow_nn, "
+             "posture_flow_bins, posture_flow_single_level, posture_flow_no_pyramid, posture_flow_means_only, posture_flow_no_fourier, posture_flow_nn, "
              "posture_flow_no_mirror, posture_flow_mirror, meanflow, sumflow_raw, sumflow, sumflow_pca, joints (MSR "
              "Action3D only) (default: all; online: posture_flow and/or sumflow)")
       .value("sweep", "N", "the paper's accuracy for 1..N frames, with and without PCA (default 40, cross-view 0; "
@@ -121,7 +121,7 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
       frames.push_back(f.descriptors.row(r).transpose());
     // Means and maxima of coordinates and speeds as they are (no power normalisation): the baseline's
     // recipe with the default recognizer's pooling.
-    const Eigen::VectorXf d = temporalPyramid(frames, f.stamps, 3, false, Pooling::MeanMax);
+    const Eigen::VectorXf d = temporalPyramid(frames, f.stamps, 3, false, Pooling{ true, 0 });
     if (i == 0)
       x.resize(static_cast<Eigen::Index>(samples.size()), d.size());
     x.row(static_cast<Eigen::Index>(i)) = d.transpose();
@@ -197,8 +197,13 @@ VariantTable variantTable(const RecognitionParams& base)
       ablation([](PyramidParams& p) { p.coarse_to_fine = false; }), 3 },
     { "posture_flow_no_pyramid", "posture_flow, whole-sequence mean only",
       ablation([](PyramidParams& p) { p.temporal_levels = 1; }), 3 },
-    { "posture_flow_means_only", "posture_flow, pyramid of means only (no maxima)",
-      ablation([](PyramidParams& p) { p.max_pooling = false; }), 3 },
+    { "posture_flow_means_only", "posture_flow, pyramid of means only (no maxima, no Fourier)",
+      ablation([](PyramidParams& p) {
+        p.max_pooling = false;
+        p.fourier = 0;
+      }), 3 },
+    { "posture_flow_no_fourier", "posture_flow, pyramid of means and maxima (no Fourier)",
+      ablation([](PyramidParams& p) { p.fourier = 0; }), 3 },
     { "posture_flow_nn", "posture_flow, 1-NN instead of the linear classifier",
       ablation([](PyramidParams& p) { p.classifier = PyramidClassifier::Nearest; }), 3 },
     { "posture_flow_no_mirror", "posture_flow, never mirrored training copies",

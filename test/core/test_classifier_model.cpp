@@ -318,34 +318,49 @@ TEST(ActionModel, Version4FilesLoadUncalibrated)
   std::remove(path.c_str());
 }
 
-// A version 5 file (before the pyramid's maxima) does not name pyramid/max_pooling: it loads with
-// them off, so its weights meet sequence descriptors of means only, as it was trained; a version 6
-// file without the name gets today's default, maxima on.
-TEST(ActionModel, Version5FilesLoadWithMeansOnly)
+// Files from before a part of the pyramid do not name its parameter: they load with that part off,
+// so their weights meet the sequence descriptors they were trained on. A version 5 file predates the
+// maxima (pyramid/max_pooling) and the Fourier magnitudes (pyramid/fourier), a version 6 file the
+// Fourier magnitudes; a current file without the names gets today's defaults.
+TEST(ActionModel, OlderFilesLoadWithThePyramidTheyWereTrainedOn)
 {
   ActionModel m = smallModel();
   ASSERT_TRUE(m.params.pyramid.max_pooling);
-  const std::string path = tempPath("v5.model");
-  const auto strip = [](std::string& payload) {
-    // The parameters come first: a count, then (name, value) strings, each a 64-bit length and its bytes.
-    const std::string name = "pyramid/max_pooling";
-    const auto at = payload.find(name);
-    ASSERT_NE(at, std::string::npos);
-    const std::size_t entry = at - 8;
-    std::uint64_t value_length = 0;
-    std::memcpy(&value_length, payload.data() + at + name.size(), 8);
-    payload.erase(entry, 8 + name.size() + 8 + value_length);
-    std::uint64_t count = 0;
-    std::memcpy(&count, payload.data(), 8);
-    --count;
-    std::memcpy(&payload[0], &count, 8);
+  ASSERT_GT(m.params.pyramid.fourier, 0);
+  const std::string path = tempPath("older_pyramid.model");
+  const auto strip = [](const std::vector<std::string>& names) {
+    return [names](std::string& payload) {
+      for (const std::string& name : names)
+      {
+        // The parameters come first: a count, then (name, value) strings, each a 64-bit length and its bytes.
+        const auto at = payload.find(name);
+        ASSERT_NE(at, std::string::npos) << name;
+        const std::size_t entry = at - 8;
+        std::uint64_t value_length = 0;
+        std::memcpy(&value_length, payload.data() + at + name.size(), 8);
+        payload.erase(entry, 8 + name.size() + 8 + value_length);
+        std::uint64_t count = 0;
+        std::memcpy(&count, payload.data(), 8);
+        --count;
+        std::memcpy(&payload[0], &count, 8);
+      }
+    };
   };
   m.save(path);
-  rewriteAsVersion(path, 5, strip);
-  EXPECT_FALSE(ActionModel::load(path).params.pyramid.max_pooling);
+  rewriteAsVersion(path, 5, strip({ "pyramid/max_pooling", "pyramid/fourier" }));
+  ActionModel back = ActionModel::load(path);
+  EXPECT_FALSE(back.params.pyramid.max_pooling);
+  EXPECT_EQ(back.params.pyramid.fourier, 0);
   m.save(path);
-  rewriteAsVersion(path, ActionModel::kFormatVersion, strip);
-  EXPECT_TRUE(ActionModel::load(path).params.pyramid.max_pooling);
+  rewriteAsVersion(path, 6, strip({ "pyramid/fourier" }));
+  back = ActionModel::load(path);
+  EXPECT_TRUE(back.params.pyramid.max_pooling);
+  EXPECT_EQ(back.params.pyramid.fourier, 0);
+  m.save(path);
+  rewriteAsVersion(path, ActionModel::kFormatVersion, strip({ "pyramid/max_pooling", "pyramid/fourier" }));
+  back = ActionModel::load(path);
+  EXPECT_TRUE(back.params.pyramid.max_pooling);
+  EXPECT_EQ(back.params.pyramid.fourier, PyramidParams().fourier);
   std::remove(path.c_str());
 }
 

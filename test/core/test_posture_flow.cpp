@@ -229,14 +229,14 @@ TEST(TemporalPyramid, MaximaBesideTheMeans)
   for (int i = 0; i < 4; ++i)
     frames.push_back(Eigen::Vector2f(rise[i], dip[i]));
   const std::vector<double> stamps = { 0.0, 0.1, 0.2, 0.3 };
-  const Eigen::VectorXf p = temporalPyramid(frames, stamps, 2, false, Pooling::MeanMax);
+  const Eigen::VectorXf p = temporalPyramid(frames, stamps, 2, false, Pooling{ true, 0 });
   // Per part (whole, first half, second half): the two means, then the two maxima.
   const float expected[] = { 7.5f, -2.5f, 16, 0,  2.5f, -0.5f, 4, 0,  12.5f, -4.5f, 16, 0 };
   ASSERT_EQ(p.size(), 12);
   for (int i = 0; i < 12; ++i)
     EXPECT_NEAR(p[i], expected[i], 1e-6f) << "value " << i;
-  // Power-normalised as the means are; the means are those of Pooling::Mean.
-  const Eigen::VectorXf root = temporalPyramid(frames, stamps, 2, true, Pooling::MeanMax);
+  // Power-normalised as the means are; the means are those of the default Pooling, means only.
+  const Eigen::VectorXf root = temporalPyramid(frames, stamps, 2, true, Pooling{ true, 0 });
   for (int i = 0; i < 12; ++i)
     EXPECT_NEAR(root[i], std::copysign(std::sqrt(std::abs(expected[i])), expected[i]), 1e-6f) << "value " << i;
   const Eigen::VectorXf means = temporalPyramid(frames, stamps, 2, false);
@@ -244,10 +244,44 @@ TEST(TemporalPyramid, MaximaBesideTheMeans)
   EXPECT_EQ(means.segment<2>(0), p.segment<2>(0));
   EXPECT_EQ(means.segment<2>(4), p.segment<2>(8));
   // A part no frame falls in takes the frame nearest its middle, for its maximum too.
-  const Eigen::VectorXf sparse = temporalPyramid({ frames[0], frames[3] }, { 0.0, 1.0 }, 3, false, Pooling::MeanMax);
+  const Eigen::VectorXf sparse = temporalPyramid({ frames[0], frames[3] }, { 0.0, 1.0 }, 3, false, Pooling{ true, 0 });
   ASSERT_EQ(sparse.size(), 28);
   EXPECT_EQ(sparse.segment<4>(12), Eigen::Vector4f(1, 0, 1, 0));  // the first quarter: frame 0 only
   EXPECT_EQ(sparse.segment<4>(20), Eigen::Vector4f(16, 0, 16, 0));  // the third: empty, frame 3 is nearest
+}
+
+TEST(TemporalPyramid, FourierMagnitudesOfKnownWaves)
+{
+  // Eight frames of two values: cos(2 pi 2 j / 8) + 1, two cycles of amplitude 1 around 1, and
+  // 3 sin(2 pi j / 8), one cycle of amplitude 3.
+  std::vector<Eigen::VectorXf> frames;
+  std::vector<double> stamps;
+  for (int j = 0; j < 8; ++j)
+  {
+    frames.push_back(Eigen::Vector2f(std::cos(2 * M_PI * 2 * j / 8) + 1, 3 * std::sin(2 * M_PI * j / 8)));
+    stamps.push_back(0.1 * j);
+  }
+  const Eigen::VectorXf p = temporalPyramid(frames, stamps, 1, false, Pooling{ false, 3 });
+  // The mean, then |X_k| / n for k = 1, 2, 3: a real wave of amplitude a gives a / 2 at its k.
+  const float expected[] = { 1, 0, 0, 1.5f, 0.5f, 0, 0, 0 };
+  ASSERT_EQ(p.size(), 8);
+  for (int i = 0; i < 8; ++i)
+    EXPECT_NEAR(p[i], expected[i], 1e-5f) << "value " << i;
+  // The magnitudes do not change when the motion shifts in time (here by three frames, cyclically).
+  std::vector<Eigen::VectorXf> shifted(8);
+  for (int j = 0; j < 8; ++j)
+    shifted[j] = frames[(j + 3) % 8];
+  EXPECT_TRUE(temporalPyramid(shifted, stamps, 1, false, Pooling{ false, 3 }).isApprox(p, 1e-5f));
+  // With the maxima: mean, maximum, then the magnitudes; and per part of a two-level pyramid.
+  const Eigen::VectorXf both = temporalPyramid(frames, stamps, 2, false, Pooling{ true, 1 });
+  ASSERT_EQ(both.size(), 3 * 3 * 2);
+  EXPECT_NEAR(both[2], 2.0f, 1e-5f);  // the first value's maximum over the whole
+  EXPECT_NEAR(both[5], 1.5f, 1e-5f);  // the second value's k = 1 magnitude over the whole
+  // A part of one frame does not swing: its magnitudes are 0, for every k.
+  const Eigen::VectorXf single = temporalPyramid({ frames[1] }, { 0.0 }, 1, false, Pooling{ false, 4 });
+  EXPECT_EQ(single.tail(8), Eigen::VectorXf::Zero(8));
+  EXPECT_THROW(temporalPyramid(frames, stamps, 1, false, Pooling{ false, -1 }), std::invalid_argument);
+  EXPECT_THROW(temporalPyramid(frames, stamps, 1, false, Pooling{ false, kMaxFourier + 1 }), std::invalid_argument);
 }
 
 namespace
@@ -396,7 +430,8 @@ TEST(PostureFlowModel, RoundTripsWithTheLinearClassifier)
   m.params.pyramid.flow = FlowEncoding::Bins;
   m.params.pyramid.mirror = MirrorMode::Off;
   const Eigen::Index length = m.sequenceLength();
-  EXPECT_EQ(length, (511 + kGeometryValues) * 7 * 2);  // 7 parts, each its means and maxima
+  // 7 parts, each its means, maxima and 6 Fourier magnitudes
+  EXPECT_EQ(length, (511 + kGeometryValues) * 7 * (2 + 6));
   m.descriptors = Eigen::MatrixXf::Zero(x.rows(), length);
   m.descriptors.leftCols(5) = x;
   m.labels = labels;
