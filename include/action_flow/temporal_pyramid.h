@@ -1,8 +1,8 @@
 /**
  * @file temporal_pyramid.h
  * @brief The default recognizer's sequence descriptor: which parts of the posture-and-flow frame
- *        descriptor it uses, and a temporal pyramid of their means and maxima that does not depend on the
- *        number of frames or on how fast the action was performed.
+ *        descriptor it uses, and a temporal pyramid of their means, maxima and Fourier magnitudes that
+ *        does not depend on the number of frames or on how fast the action was performed.
  */
 #pragma once
 
@@ -84,7 +84,7 @@ struct Pooling
    * The magnitudes of the first `fourier` coefficients of their discrete Fourier transform,
    * value by value: for k = 1..fourier, |sum_j (x_j - mean) e^(-2 pi i k j / n)| / n over the
    * part's n frames (a Fourier temporal pyramid; the mean is coefficient 0, and a k that aliases
-   * to it, a multiple of n, gives 0). A magnitude does not change when the
+   * to it, a multiple of n, gives 0 up to rounding). Where k > n / 2, |X_k| repeats |X_(n-k)|. A magnitude does not change when the
    * motion shifts in time within the part, and it tells a slow sweep from a fast repeated one.
    */
   int fourier = 0;
@@ -131,7 +131,7 @@ struct PyramidParams
    * Each part of the pyramid also holds the magnitudes of its frames' first N Fourier coefficients
    * (Pooling::fourier): how much each value swings, and how fast, wherever in the part it
    * happens. Chosen on MSR Action3D's training subjects alone, leave-one-subject-out: 69.7% with
-   * none, 72.9 / 73.2 / 74.3 / 74.6% with 3 / 4 / 6 / 8 (docs/evaluation.md). Models of format 6
+   * none, 72.9 / 73.2 / 75.4 / 75.0% with 3 / 4 / 6 / 8 (docs/evaluation.md). Models of format 6
    * and older predate it and load with 0.
    */
   int fourier = 6;
@@ -169,6 +169,9 @@ struct PyramidParams
 
   /** @brief What each part of the pyramid holds (max_pooling and fourier). */
   Pooling pooling() const { return Pooling{ max_pooling, fourier }; }
+
+  /** @brief What is wrong with these values (levels, Fourier coefficients, weights out of range), or "". */
+  std::string problem() const;
 };
 
 /**

@@ -158,12 +158,9 @@ RecognitionParams getParams(Reader& r, std::uint32_t version)
       r.fail(std::string("parameter ") + e.what());
     }
   }
-  if (p.pyramid.temporal_levels < 1 || p.pyramid.temporal_levels > 4)
-    r.fail("temporal pyramid levels " + std::to_string(p.pyramid.temporal_levels) + " outside 1..4");
-  if (p.pyramid.fourier < 0 || p.pyramid.fourier > kMaxFourier)
-    r.fail("Fourier coefficients " + std::to_string(p.pyramid.fourier) + " outside 0.." + std::to_string(kMaxFourier));
-  if (!(p.pyramid.geometry_weight >= 0.0f))
-    r.fail("geometry weight " + std::to_string(p.pyramid.geometry_weight) + " is not a finite value >= 0");
+  const std::string problem = p.pyramid.problem();
+  if (!problem.empty())
+    r.fail(problem);
   return p;
 }
 

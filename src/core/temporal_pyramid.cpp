@@ -17,6 +17,19 @@ PyramidClassifier pyramidClassifierFromString(const std::string& name)
   return c;
 }
 
+std::string PyramidParams::problem() const
+{
+  if (temporal_levels < 1 || temporal_levels > 4)
+    return "pyramid/temporal_levels " + std::to_string(temporal_levels) + " outside 1..4";
+  if (fourier < 0 || fourier > kMaxFourier)
+    return "pyramid/fourier " + std::to_string(fourier) + " outside 0.." + std::to_string(kMaxFourier);
+  if (!(geometry_weight >= 0.0f) || !std::isfinite(geometry_weight))
+    return "pyramid/geometry_weight " + std::to_string(geometry_weight) + " is not a finite value >= 0";
+  if (!(c >= 0.0) || !std::isfinite(c))
+    return "pyramid/c " + std::to_string(c) + " is not a finite value >= 0";
+  return "";
+}
+
 Eigen::VectorXf selectFrameFeatures(const Eigen::VectorXf& full, const PostureFlowDescriptor& layout,
                                     const PyramidParams& params)
 {
@@ -88,6 +101,7 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
   Eigen::VectorXf out(length * pyramidParts(levels) * pooling.blocks());
   Eigen::Index at = 0;
   std::vector<std::size_t> members;  // the frames of the part at hand
+  std::vector<Eigen::VectorXf> deviations;  // and their differences from the part's mean
   for (int l = 0; l < levels; ++l)
   {
     const int parts = 1 << l;
@@ -128,6 +142,12 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
         out.segment(at, length) = peak;
         at += length;
       }
+      if (pooling.fourier > 0)
+      {
+        deviations.resize(members.size());
+        for (std::size_t j = 0; j < members.size(); ++j)
+          deviations[j] = frames[members[j]] - mean;
+      }
       for (int k = 1; k <= pooling.fourier; ++k)
       {
         // Coefficient k of the part's frames, taken in order (equal steps, as the stamps nearly are),
@@ -136,8 +156,8 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
         for (std::size_t j = 0; j < members.size(); ++j)
         {
           const double angle = 2.0 * M_PI * k * static_cast<double>(j) / static_cast<double>(members.size());
-          re += (frames[members[j]] - mean) * static_cast<float>(std::cos(angle));
-          im -= (frames[members[j]] - mean) * static_cast<float>(std::sin(angle));
+          re += deviations[j] * static_cast<float>(std::cos(angle));
+          im -= deviations[j] * static_cast<float>(std::sin(angle));
         }
         out.segment(at, length) = (re.array().square() + im.array().square()).sqrt().matrix() / n;
         at += length;

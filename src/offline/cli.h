@@ -375,6 +375,9 @@ inline TrackerParams trackerParams(const Args& a)
 inline RecognitionParams methodParams(const Args& a)
 {
   RecognitionParams p = configParams(a).recognition;
+  const std::string problem = p.pyramid.problem();
+  if (!problem.empty())
+    throw std::invalid_argument("--config " + a.get("config") + ": " + problem);
   p.recognizer = choiceOption(a, "recognizer", p.recognizer);
   p.pyramid.classifier = choiceOption(a, "classifier", p.pyramid.classifier);
   p.pyramid.c = a.number("c", p.pyramid.c);

@@ -412,7 +412,7 @@ void loadCachedSequences(const Options& o, std::vector<DescriptorSequence>& trai
 
 // The default recognizer's classification: temporal pyramid of posture-and-flow frames, then the
 // linear classifier (a product with the weights), on generated sequences of the same shape.
-// The default recognizer's classification; @p fourier false is the previous default's pyramid of
+// @p fourier false is the previous default's pyramid of
 // means and maxima, without the Fourier magnitudes, timed in the same run beside it.
 void benchPostureFlowClassification(const Options& o, bool fourier)
 {

@@ -120,7 +120,8 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
     for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r)
       frames.push_back(f.descriptors.row(r).transpose());
     // Means and maxima of coordinates and speeds as they are (no power normalisation): the baseline's
-    // recipe with the default recognizer's pooling.
+    // recipe with the default recognizer's pooling, less its Fourier magnitudes, which did not help
+    // the joints on MSR Action3D's training subjects (docs/evaluation.md).
     const Eigen::VectorXf d = temporalPyramid(frames, f.stamps, 3, false, Pooling{ true, 0 });
     if (i == 0)
       x.resize(static_cast<Eigen::Index>(samples.size()), d.size());

@@ -364,6 +364,46 @@ TEST(ActionModel, OlderFilesLoadWithThePyramidTheyWereTrainedOn)
   std::remove(path.c_str());
 }
 
+// A parameter the file names with a value out of range (a damaged or hand-edited file) is refused by
+// name, as the tools refuse it from a --config file, before any descriptor is sized by it.
+TEST(ActionModel, PyramidParameterOutOfRangeIsRefusedByName)
+{
+  const ActionModel m = smallModel();
+  const std::string path = tempPath("fourier_range.model");
+  m.save(path);
+  rewriteAsVersion(path, ActionModel::kFormatVersion, [](std::string& payload) {
+    const std::string name = "pyramid/fourier";
+    const auto at = payload.find(name);
+    ASSERT_NE(at, std::string::npos);
+    const std::size_t value_at = at + name.size();
+    std::uint64_t value_length = 0;
+    std::memcpy(&value_length, payload.data() + value_at, 8);
+    const std::string value = "-3";
+    const std::uint64_t new_length = value.size();
+    payload.replace(value_at, 8 + value_length, std::string(reinterpret_cast<const char*>(&new_length), 8) + value);
+  });
+  try
+  {
+    ActionModel::load(path);
+    ADD_FAILURE() << "a model with pyramid/fourier -3 loaded";
+  }
+  catch (const ModelError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("pyramid/fourier -3 outside 0..16"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+  PyramidParams p;
+  EXPECT_EQ(p.problem(), "");
+  p.fourier = kMaxFourier + 1;
+  EXPECT_NE(p.problem().find("pyramid/fourier"), std::string::npos);
+  p = PyramidParams();
+  p.temporal_levels = 0;
+  EXPECT_NE(p.problem().find("pyramid/temporal_levels"), std::string::npos);
+  p = PyramidParams();
+  p.geometry_weight = -1.0f;
+  EXPECT_NE(p.problem().find("pyramid/geometry_weight"), std::string::npos);
+}
+
 // A parameter the build does not know (a file from a newer build) is refused, naming it.
 TEST(ActionModel, UnknownParameterInTheFileIsRefusedByName)
 {
