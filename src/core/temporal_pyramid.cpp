@@ -101,7 +101,7 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
   Eigen::VectorXf out(length * pyramidParts(levels) * pooling.blocks());
   Eigen::Index at = 0;
   std::vector<std::size_t> members;  // the frames of the part at hand
-  std::vector<Eigen::VectorXf> deviations;  // and their differences from the part's mean
+  Eigen::MatrixXf deviations, basis;  // with Fourier magnitudes: their differences from the part's mean, and the transform
   for (int l = 0; l < levels; ++l)
   {
     const int parts = 1 << l;
@@ -144,23 +144,30 @@ Eigen::VectorXf temporalPyramid(const std::vector<Eigen::VectorXf>& frames, cons
       }
       if (pooling.fourier > 0)
       {
-        deviations.resize(members.size());
-        for (std::size_t j = 0; j < members.size(); ++j)
-          deviations[j] = frames[members[j]] - mean;
-      }
-      for (int k = 1; k <= pooling.fourier; ++k)
-      {
-        // Coefficient k of the part's frames, taken in order (equal steps, as the stamps nearly are),
-        // less their mean: the same for 0 < k < n, and 0 where k aliases to the mean (k = n, 2n...).
-        Eigen::VectorXf re = Eigen::VectorXf::Zero(length), im = Eigen::VectorXf::Zero(length);
-        for (std::size_t j = 0; j < members.size(); ++j)
+        // Coefficients 1..K of the part's frames, taken in order (equal steps, as the stamps nearly
+        // are), less their mean: the same for 0 < k < n, and 0 where k aliases to the mean (k = n,
+        // 2n...). One product: (values x n deviations) times (n x 2K cosines and sines).
+        const Eigen::Index count = static_cast<Eigen::Index>(members.size());
+        const int K = pooling.fourier;
+        deviations.resize(length, count);
+        basis.resize(count, 2 * K);
+        for (Eigen::Index j = 0; j < count; ++j)
         {
-          const double angle = 2.0 * M_PI * k * static_cast<double>(j) / static_cast<double>(members.size());
-          re += deviations[j] * static_cast<float>(std::cos(angle));
-          im -= deviations[j] * static_cast<float>(std::sin(angle));
+          deviations.col(j) = frames[members[static_cast<std::size_t>(j)]] - mean;
+          for (int k = 1; k <= K; ++k)
+          {
+            const double angle = 2.0 * M_PI * k * static_cast<double>(j) / static_cast<double>(count);
+            basis(j, k - 1) = static_cast<float>(std::cos(angle));
+            basis(j, K + k - 1) = static_cast<float>(std::sin(angle));
+          }
         }
-        out.segment(at, length) = (re.array().square() + im.array().square()).sqrt().matrix() / n;
-        at += length;
+        const Eigen::MatrixXf coefficients = deviations * basis;
+        for (int k = 0; k < K; ++k)
+        {
+          out.segment(at, length) =
+              (coefficients.col(k).array().square() + coefficients.col(K + k).array().square()).sqrt().matrix() / n;
+          at += length;
+        }
       }
     }
   }
