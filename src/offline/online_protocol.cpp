@@ -522,11 +522,91 @@ std::vector<std::string> streamPersons(const OnlineStreams& streams, std::size_t
   return out;
 }
 
+/** A variant's streams, split by their use, and the people of each. */
+struct VariantStreams
+{
+  std::vector<StreamCase> tuning, sources, test;
+  std::vector<std::string> tuning_persons, source_persons;
+};
+
+VariantStreams variantStreams(const OnlineRun& run, std::size_t e)
+{
+  const auto cases = streamCases(run.streams.specs, run.stream_frames[e]);
+  const auto first_source = cases.begin() + static_cast<long>(run.streams.tuning);
+  const auto first_test = first_source + static_cast<long>(run.streams.no_action);
+  return { { cases.begin(), first_source },
+           { first_source, first_test },
+           { first_test, cases.end() },
+           streamPersons(run.streams, 0, run.streams.tuning),
+           streamPersons(run.streams, run.streams.tuning, run.streams.no_action) };
+}
+
+/** What a model tried on the tuning streams gives: the policy chosen with it, its score, its report entry. */
+struct Tuned
+{
+  PolicyParams policy;
+  StreamScore score;
+  json entry;
+};
+
+/** Ranks tuning scores: the higher F1, then the fewer false labels a minute in idle periods. */
+bool betterTuning(const StreamScore& a, const StreamScore& b)
+{
+  return a.f1 > b.f1 + 1e-12 ||
+         (std::fabs(a.f1 - b.f1) <= 1e-12 && a.idle_false_per_minute() < b.idle_false_per_minute() - 1e-12);
+}
+
 /**
- * Variant @p v: the policy's thresholds (and the windows a stream gives, when the variant learns
- * from them) chosen on the tuning streams with a model trained without the tuning people,
- * then the model of every training person on the test streams; returns its report entry and adds
- * its test streams to @p timeline.
+ * A model of the training people who do not tune (@p labelled at run.inner_rows), with @p windows
+ * of the source streams, pyramid pooling as in @p params; the policy chosen with it on the tuning streams.
+ */
+Tuned tune(const OnlineRun& run, const std::vector<LabelledSample>& labelled, const VariantStreams& s,
+           const StreamWindowCounts& windows, const RecognitionParams& params)
+{
+  std::vector<LabelledSample> inner = labelled;
+  std::vector<std::size_t> rows = run.inner_rows;
+  std::deque<SampleFrames> store;
+  addStreamWindows(s.sources, s.source_persons, windows, inner, rows, store);
+  auto model = std::make_shared<const ActionModel>(trainModel(inner, rows, params));
+  Tuned t;
+  t.policy = choosePolicy(model, s.tuning, policyCandidates(params.recognizer), &t.score);
+  const std::size_t idle = noActionCount(inner, labelled.size());
+  t.entry = { { "no_action_windows", windows.no_action },
+              { "action_windows", windows.action },
+              { "max_pooling", params.pyramid.max_pooling },
+              { "fourier", params.pyramid.fourier },
+              { "samples", idle },
+              { "action_samples", inner.size() - labelled.size() - idle },
+              { "policy", policyJson(t.policy) },
+              { "tuning_score", scoreJson(t.score) } };
+  return t;
+}
+
+/**
+ * The pyramid poolings a variant chooses among on the tuning streams: posture_flow tries its
+ * default (means, maxima and Fourier magnitudes), means and maxima, and means only, because a
+ * sliding window's maxima and magnitudes also hold the transitions around an action; the others
+ * keep their own.
+ */
+std::vector<PyramidParams> poolingCandidates(const std::string& variant, const PyramidParams& base)
+{
+  if (variant != "posture_flow")
+    return { base };
+  PyramidParams no_fourier = base, means = base;
+  no_fourier.fourier = 0;
+  means.fourier = 0;
+  means.max_pooling = false;
+  return { base, no_fourier, means };
+}
+
+/** The windows a stream gives while the pooling is chosen: the middle of windowCandidates, set before any run. */
+constexpr StreamWindowCounts kPoolingWindows{ 24, 24 };
+
+/**
+ * Variant @p v: the pyramid's pooling, then the windows a stream gives (when the variant learns from
+ * them) and the policy's thresholds, chosen on the tuning streams with models trained without the
+ * tuning people; then the model of every training person on the test streams. Returns its report
+ * entry and adds its test streams to @p timeline.
  */
 json onlineVariant(const OnlineRun& run, const std::string& v, std::string& timeline)
 {
@@ -534,67 +614,73 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
   std::vector<LabelledSample> labelled;
   for (std::size_t i = 0; i < run.training.size(); ++i)
     labelled.push_back({ run.training[i].person, run.training[i].action, &run.train_frames[e][i] });
-  const auto cases = streamCases(run.streams.specs, run.stream_frames[e]);
-  const auto first_source = cases.begin() + static_cast<long>(run.streams.tuning);
-  const auto first_test = first_source + static_cast<long>(run.streams.no_action);
-  const std::vector<StreamCase> tuning(cases.begin(), first_source);
-  const std::vector<StreamCase> sources(first_source, first_test);
-  const std::vector<StreamCase> test(first_test, cases.end());
-  const std::vector<std::string> tuning_persons = streamPersons(run.streams, 0, run.streams.tuning);
-  const std::vector<std::string> source_persons =
-      streamPersons(run.streams, run.streams.tuning, run.streams.no_action);
+  const VariantStreams streams = variantStreams(run, e);
+  const auto report = [&](const char* stage, const Tuned& t) {
+    std::fprintf(stderr,
+                 "evaluate: %s %s: %d no-action and %d action windows a stream, pyramid maxima %s, %d Fourier: "
+                 "tuning F1 %.2f, %.1f false labels/min in idle\n",
+                 v.c_str(), stage, t.entry["no_action_windows"].get<int>(), t.entry["action_windows"].get<int>(),
+                 t.entry["max_pooling"].get<bool>() ? "on" : "off", t.entry["fourier"].get<int>(), t.score.f1,
+                 t.score.idle_false_per_minute());
+  };
 
-  const RecognitionParams& params = run.extractions[e];
-  PolicyParams chosen;
-  StreamScore tuning_score;
+  // First the pooling, at the middle windows; then the windows, with that pooling.
+  RecognitionParams params = run.extractions[e];
+  const std::vector<PyramidParams> poolings = poolingCandidates(v, params.pyramid);
+  json per_pooling = json::array();
+  Tuned best;
+  for (std::size_t k = 0; k < poolings.size() && poolings.size() > 1; ++k)
+  {
+    RecognitionParams p = params;
+    p.pyramid = poolings[k];
+    Tuned t = tune(run, labelled, streams, kPoolingWindows, p);
+    report("pooling", t);
+    per_pooling.push_back(t.entry);
+    if (k == 0 || betterTuning(t.score, best.score))
+    {
+      best = std::move(t);
+      params = p;
+    }
+  }
+  const Tuned pooled = best;
   StreamWindowCounts windows;
   json per_windows = json::array();
   for (const StreamWindowCounts& candidate : windowCandidates(v))
   {
-    std::vector<LabelledSample> inner = labelled;
-    std::vector<std::size_t> rows = run.inner_rows;
-    std::deque<SampleFrames> store;
-    addStreamWindows(sources, source_persons, candidate, inner, rows, store);
-    auto tuning_model = std::make_shared<const ActionModel>(trainModel(inner, rows, params));
-    StreamScore s;
-    const PolicyParams p = choosePolicy(tuning_model, tuning, policyCandidates(params.recognizer), &s);
-    const std::size_t idle = noActionCount(inner, labelled.size());
-    per_windows.push_back({ { "no_action_windows", candidate.no_action }, { "action_windows", candidate.action },
-                            { "samples", idle }, { "action_samples", inner.size() - labelled.size() - idle },
-                            { "policy", policyJson(p) }, { "tuning_score", scoreJson(s) } });
-    std::fprintf(stderr,
-                 "evaluate: %s with %d no-action and %d action windows a stream: tuning F1 %.2f, %.1f false "
-                 "labels/min in idle\n",
-                 v.c_str(), candidate.no_action, candidate.action, s.f1, s.idle_false_per_minute());
-    if (per_windows.size() == 1 || s.f1 > tuning_score.f1 + 1e-12 ||
-        (std::fabs(s.f1 - tuning_score.f1) <= 1e-12 &&
-         s.idle_false_per_minute() < tuning_score.idle_false_per_minute() - 1e-12))
+    const bool done = !per_pooling.empty() && candidate.no_action == kPoolingWindows.no_action &&
+                      candidate.action == kPoolingWindows.action;
+    Tuned t = done ? pooled : tune(run, labelled, streams, candidate, params);
+    report("windows", t);
+    per_windows.push_back(t.entry);
+    if (per_windows.size() == 1 || betterTuning(t.score, best.score))
     {
-      chosen = p;
-      tuning_score = s;
+      best = std::move(t);
       windows = candidate;
     }
   }
   std::vector<std::size_t> rows = run.all_rows;
   std::deque<SampleFrames> store;
   const std::size_t segmented = labelled.size();
-  addStreamWindows(sources, source_persons, windows, labelled, rows, store);
-  addStreamWindows(tuning, tuning_persons, windows, labelled, rows, store);
+  addStreamWindows(streams.sources, streams.source_persons, windows, labelled, rows, store);
+  addStreamWindows(streams.tuning, streams.tuning_persons, windows, labelled, rows, store);
   const std::size_t idle = noActionCount(labelled, segmented);
   auto model = std::make_shared<const ActionModel>(trainModel(labelled, rows, params));
 
   std::vector<StreamScore> scores;
-  const json per_stream = testStreams(model, chosen, test, v, scores, timeline);
+  const json per_stream = testStreams(model, best.policy, streams.test, v, scores, timeline);
   const StreamScore all = combineScores(scores);
   printVariantScore(v, all);
   return { { "variant", v },
-           { "policy", policyJson(chosen) },
+           { "policy", policyJson(best.policy) },
+           { "max_pooling", params.pyramid.max_pooling },
+           { "fourier", params.pyramid.fourier },
+           { "pooling_candidates", per_pooling },
            { "no_action_windows", windows.no_action },
            { "no_action_samples", idle },
            { "action_windows", windows.action },
            { "action_window_samples", labelled.size() - segmented - idle },
            { "no_action_candidates", per_windows },
-           { "tuning_score", scoreJson(tuning_score) },
+           { "tuning_score", scoreJson(best.score) },
            { "test", scoreJson(all) },
            { "streams", per_stream } };
 }

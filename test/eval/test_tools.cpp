@@ -271,6 +271,33 @@ TEST(Tools, OnlineProtocolScoresStreamsOfNewPeopleOnly)
   {
     EXPECT_EQ(v["action_window_samples"], 0);
   }
+  // The pyramid's pooling is chosen first, at 24 and 24 windows: the default (maxima and 6 Fourier
+  // magnitudes), maxima only, means only; the windows are then chosen with the pooling chosen, every
+  // candidate of them trained with it.
+  const nlohmann::json& poolings = v["pooling_candidates"];
+  ASSERT_EQ(poolings.size(), 3u);
+  const std::vector<std::pair<bool, int>> tried = { { true, 6 }, { true, 0 }, { false, 0 } };
+  for (std::size_t k = 0; k < tried.size(); ++k)
+  {
+    EXPECT_EQ(poolings[k]["max_pooling"], tried[k].first) << k;
+    EXPECT_EQ(poolings[k]["fourier"], tried[k].second) << k;
+    EXPECT_EQ(poolings[k]["no_action_windows"], 24) << k;
+    EXPECT_EQ(poolings[k]["action_windows"], 24) << k;
+  }
+  const std::pair<bool, int> pooling{ v["max_pooling"].get<bool>(), v["fourier"].get<int>() };
+  EXPECT_NE(std::find(tried.begin(), tried.end(), pooling), tried.end());
+  for (const auto& c : v["no_action_candidates"])
+  {
+    EXPECT_EQ(c["max_pooling"], pooling.first);
+    EXPECT_EQ(c["fourier"], pooling.second);
+  }
+  const nlohmann::json& middle = v["no_action_candidates"][n_idle + 3];  // 24 and 24
+  ASSERT_EQ(middle["no_action_windows"], 24);
+  ASSERT_EQ(middle["action_windows"], 24);
+  bool same = false;
+  for (const auto& p : poolings)
+    same = same || p == middle;
+  EXPECT_TRUE(same) << "the pooling's run at 24 and 24 windows is the windows' candidate at 24 and 24";
 
   // train learns the class from the same streams (from the cache) when asked: one class more.
   const std::string base = kBin + "/train --synth ias --people 3 --repetitions 1 --actions wave,kick,sit_down" +
