@@ -549,6 +549,15 @@ struct Tuned
   json entry;
 };
 
+/** The pyramid's pooling into @p entry, for posture_flow (the paper's recognizer has no pyramid). */
+void addPooling(json& entry, const RecognitionParams& params)
+{
+  if (params.recognizer != Recognizer::PostureFlow)
+    return;
+  entry["max_pooling"] = params.pyramid.max_pooling;
+  entry["fourier"] = params.pyramid.fourier;
+}
+
 /** Ranks tuning scores: the higher F1, then the fewer false labels a minute in idle periods. */
 bool betterTuning(const StreamScore& a, const StreamScore& b)
 {
@@ -573,33 +582,40 @@ Tuned tune(const OnlineRun& run, const std::vector<LabelledSample>& labelled, co
   const std::size_t idle = noActionCount(inner, labelled.size());
   t.entry = { { "no_action_windows", windows.no_action },
               { "action_windows", windows.action },
-              { "max_pooling", params.pyramid.max_pooling },
-              { "fourier", params.pyramid.fourier },
               { "samples", idle },
               { "action_samples", inner.size() - labelled.size() - idle },
               { "policy", policyJson(t.policy) },
               { "tuning_score", scoreJson(t.score) } };
+  addPooling(t.entry, params);
   return t;
 }
 
 /**
- * The pyramid poolings a variant chooses among on the tuning streams: posture_flow tries its
- * default (means, maxima and Fourier magnitudes), means and maxima, and means only, because a
- * sliding window's maxima and magnitudes also hold the transitions around an action; the others
- * keep their own.
+ * The pyramid poolings a variant chooses among on the tuning streams: posture_flow tries @p base
+ * (by default means, maxima and Fourier magnitudes), then means and maxima, then means only, each
+ * once (a sliding window's maxima and magnitudes also hold the transitions around an action); the
+ * others keep @p base.
  */
 std::vector<PyramidParams> poolingCandidates(const std::string& variant, const PyramidParams& base)
 {
+  std::vector<PyramidParams> out{ base };
   if (variant != "posture_flow")
-    return { base };
-  PyramidParams no_fourier = base, means = base;
-  no_fourier.fourier = 0;
-  means.fourier = 0;
-  means.max_pooling = false;
-  return { base, no_fourier, means };
+    return out;
+  PyramidParams p = base;
+  for (const bool maxima : { true, false })
+  {
+    p.fourier = 0;
+    p.max_pooling = maxima;
+    const bool tried = std::any_of(out.begin(), out.end(), [&](const PyramidParams& q) {
+      return q.fourier == p.fourier && q.max_pooling == p.max_pooling;
+    });
+    if (!tried)
+      out.push_back(p);
+  }
+  return out;
 }
 
-/** The windows a stream gives while the pooling is chosen: the middle of windowCandidates, set before any run. */
+/** The windows a stream gives while the pooling is chosen: fixed in the code before the choice was first measured. */
 constexpr StreamWindowCounts kPoolingWindows{ 24, 24 };
 
 /**
@@ -616,15 +632,18 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
     labelled.push_back({ run.training[i].person, run.training[i].action, &run.train_frames[e][i] });
   const VariantStreams streams = variantStreams(run, e);
   const auto report = [&](const char* stage, const Tuned& t) {
+    std::string pooling;
+    if (t.entry.contains("fourier"))
+      pooling = std::string(", pyramid maxima ") + (t.entry["max_pooling"].get<bool>() ? "on" : "off") + ", " +
+                std::to_string(t.entry["fourier"].get<int>()) + " Fourier";
     std::fprintf(stderr,
-                 "evaluate: %s %s: %d no-action and %d action windows a stream, pyramid maxima %s, %d Fourier: "
-                 "tuning F1 %.2f, %.1f false labels/min in idle\n",
+                 "evaluate: %s %s: %d no-action and %d action windows a stream%s: tuning F1 %.2f, "
+                 "%.1f false labels/min in idle\n",
                  v.c_str(), stage, t.entry["no_action_windows"].get<int>(), t.entry["action_windows"].get<int>(),
-                 t.entry["max_pooling"].get<bool>() ? "on" : "off", t.entry["fourier"].get<int>(), t.score.f1,
-                 t.score.idle_false_per_minute());
+                 pooling.c_str(), t.score.f1, t.score.idle_false_per_minute());
   };
 
-  // First the pooling, at the middle windows; then the windows, with that pooling.
+  // First the pooling, at kPoolingWindows; then the windows, with that pooling.
   RecognitionParams params = run.extractions[e];
   const std::vector<PyramidParams> poolings = poolingCandidates(v, params.pyramid);
   json per_pooling = json::array();
@@ -670,19 +689,19 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
   const json per_stream = testStreams(model, best.policy, streams.test, v, scores, timeline);
   const StreamScore all = combineScores(scores);
   printVariantScore(v, all);
-  return { { "variant", v },
-           { "policy", policyJson(best.policy) },
-           { "max_pooling", params.pyramid.max_pooling },
-           { "fourier", params.pyramid.fourier },
-           { "pooling_candidates", per_pooling },
-           { "no_action_windows", windows.no_action },
-           { "no_action_samples", idle },
-           { "action_windows", windows.action },
-           { "action_window_samples", labelled.size() - segmented - idle },
-           { "no_action_candidates", per_windows },
-           { "tuning_score", scoreJson(best.score) },
-           { "test", scoreJson(all) },
-           { "streams", per_stream } };
+  json entry = { { "variant", v },
+                 { "policy", policyJson(best.policy) },
+                 { "pooling_candidates", per_pooling },
+                 { "no_action_windows", windows.no_action },
+                 { "no_action_samples", idle },
+                 { "action_windows", windows.action },
+                 { "action_window_samples", labelled.size() - segmented - idle },
+                 { "no_action_candidates", per_windows },
+                 { "tuning_score", scoreJson(best.score) },
+                 { "test", scoreJson(all) },
+                 { "streams", per_stream } };
+  addPooling(entry, params);
+  return entry;
 }
 
 /** OUTPUT/online.json and OUTPUT/timeline.csv, then (unless --no-plots) the timeline pictures. */
