@@ -193,6 +193,29 @@ TEST(ParamFiles, ShippedConfigHoldsTheDeclaredDefaults)
     EXPECT_EQ(c[i].value, d[i].value) << "config/tracker.yaml: " << c[i].name;
 }
 
+// config/online_model.yaml (train --config, the online model) changes only what the model file
+// keeps (the pyramid's pooling): a model trained with it fits the nodelets as launched, whose
+// frame descriptors follow config/recognition.yaml.
+TEST(ParamFiles, OnlineModelConfigChangesOnlyTheModelsOwnParameters)
+{
+  ToolParams loaded;
+  applyParamFile(kSource + "/config/online_model.yaml", loaded);
+  const ToolParams defaults;
+  const auto a = paramEntries(loaded.recognition), b = paramEntries(defaults.recognition);
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].value != b[i].value)
+    {
+      ++changed;
+      EXPECT_EQ(a[i].shapes, Shapes::Model) << a[i].name << " shapes the frame descriptors";
+      EXPECT_EQ(a[i].name.rfind("pyramid/", 0), 0u) << a[i].name;
+    }
+  EXPECT_GT(changed, 0u) << "the file changes nothing: the online model would be the segmented one";
+  EXPECT_EQ(describeDifferences(loaded.recognition, defaults.recognition), "");
+  EXPECT_EQ(loaded.recognition.pyramid.problem(), "");
+}
+
 TEST(ParamFiles, ValuesAndErrorsNameTheFileAndKey)
 {
   ToolParams p;

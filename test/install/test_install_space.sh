@@ -216,9 +216,10 @@ out=$(timeout 90 "$TMP/in_prefix" /usr/bin/python3 "$TMP/list_nodelets.py" "$EXP
 if [ $rc = 0 ]; then pass all_nodelets_load
 else fail all_nodelets_load "$(printf '%s' "$out" | tail -n 2); launch log: $(grep -iE 'error|fail|died' "$TMP/launch.log" | head -n 8)"; fi
 
-# The launch files' default model is not in the install space: the classifier says so, by path.
+# The launch files' default model is not in the install space: the classifier says so, by path
+# (kinect.launch's default mode is online, so its default model is models/online.model).
 start
-model="$PREFIX/share/action_flow/models/default.model"
+model="$PREFIX/share/action_flow/models/online.model"
 for _ in $(seq 1 20); do grep -q "does not exist" "$TMP/launch.log" && break; sleep 0.5; done
 if [ -e "$model" ]; then fail default_model_reported "$model is installed: no model is shipped"
 elif grep "$model" "$TMP/launch.log" | grep -q "does not exist"; then pass default_model_reported
