@@ -648,19 +648,20 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
   const std::vector<PyramidParams> poolings = poolingCandidates(v, params.pyramid);
   json per_pooling = json::array();
   Tuned best;
-  for (std::size_t k = 0; k < poolings.size() && poolings.size() > 1; ++k)
-  {
-    RecognitionParams p = params;
-    p.pyramid = poolings[k];
-    Tuned t = tune(run, labelled, streams, kPoolingWindows, p);
-    report("pooling", t);
-    per_pooling.push_back(t.entry);
-    if (k == 0 || betterTuning(t.score, best.score))
+  if (poolings.size() > 1)
+    for (const PyramidParams& pooling : poolings)
     {
-      best = std::move(t);
-      params = p;
+      RecognitionParams p = params;
+      p.pyramid = pooling;
+      Tuned t = tune(run, labelled, streams, kPoolingWindows, p);
+      report("pooling", t);
+      per_pooling.push_back(t.entry);
+      if (per_pooling.size() == 1 || betterTuning(t.score, best.score))
+      {
+        best = std::move(t);
+        params = p;
+      }
     }
-  }
   const Tuned pooled = best;
   StreamWindowCounts windows;
   json per_windows = json::array();
