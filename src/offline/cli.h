@@ -27,6 +27,8 @@
 #include <thread>
 #include <vector>
 #include <algorithm>
+#include <atomic>
+#include <exception>
 
 namespace action_flow
 {
@@ -134,6 +136,28 @@ inline void runWorkers(int jobs, const std::function<void()>& worker)
     pool.emplace_back(worker);
   for (auto& t : pool)
     t.join();
+}
+
+/** Calls @p item(i) for every i < @p n on up to @p jobs threads, in no set order; when items throw,
+ *  the error of the lowest index is rethrown once all have stopped. */
+inline void forEachParallel(int jobs, std::size_t n, const std::function<void(std::size_t)>& item)
+{
+  std::atomic<std::size_t> next{ 0 };
+  std::vector<std::exception_ptr> errors(n);
+  runWorkers(static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, jobs)), n)), [&] {
+    for (std::size_t i = next++; i < n; i = next++)
+      try
+      {
+        item(i);
+      }
+      catch (...)
+      {
+        errors[i] = std::current_exception();
+      }
+  });
+  for (const auto& e : errors)
+    if (e)
+      std::rethrow_exception(e);
 }
 
 /**

@@ -435,6 +435,7 @@ struct OnlineRun
   const std::vector<std::vector<SampleFrames>>& stream_frames;  // per extraction, per stream
   std::vector<std::size_t> all_rows;    // every training sample
   std::vector<std::size_t> inner_rows;  // those of no tuning person
+  int jobs;                             // models trained at once while tuning
 };
 
 /** One stream's rows of timeline.csv: its truth, then the labels predicted. */
@@ -643,41 +644,50 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
                  pooling.c_str(), t.score.f1, t.score.idle_false_per_minute());
   };
 
-  // First the pooling, at kPoolingWindows; then the windows, with that pooling.
+  // First the pooling, at kPoolingWindows; then the windows, with that pooling. The candidates of
+  // each step train at once on up to run.jobs threads; the choice is made afterwards, in candidate order.
   RecognitionParams params = run.extractions[e];
   const std::vector<PyramidParams> poolings = poolingCandidates(v, params.pyramid);
   json per_pooling = json::array();
   Tuned best;
   if (poolings.size() > 1)
-    for (const PyramidParams& pooling : poolings)
-    {
-      RecognitionParams p = params;
-      p.pyramid = pooling;
-      Tuned t = tune(run, labelled, streams, kPoolingWindows, p);
-      report("pooling", t);
-      per_pooling.push_back(t.entry);
-      if (per_pooling.size() == 1 || betterTuning(t.score, best.score))
-      {
-        best = std::move(t);
-        params = p;
-      }
-    }
-  const Tuned pooled = best;
-  StreamWindowCounts windows;
-  json per_windows = json::array();
-  for (const StreamWindowCounts& candidate : windowCandidates(v))
   {
+    std::vector<Tuned> tried(poolings.size());
+    forEachParallel(run.jobs, poolings.size(), [&](std::size_t i) {
+      RecognitionParams p = params;
+      p.pyramid = poolings[i];
+      tried[i] = tune(run, labelled, streams, kPoolingWindows, p);
+      report("pooling", tried[i]);
+    });
+    std::size_t chosen = 0;
+    for (std::size_t i = 0; i < tried.size(); ++i)
+    {
+      per_pooling.push_back(tried[i].entry);
+      if (betterTuning(tried[i].score, tried[chosen].score))
+        chosen = i;
+    }
+    params.pyramid = poolings[chosen];
+    best = std::move(tried[chosen]);
+  }
+  const std::vector<StreamWindowCounts> window_candidates = windowCandidates(v);
+  std::vector<Tuned> tried(window_candidates.size());
+  forEachParallel(run.jobs, window_candidates.size(), [&](std::size_t i) {
+    const StreamWindowCounts& candidate = window_candidates[i];
     const bool done = !per_pooling.empty() && candidate.no_action == kPoolingWindows.no_action &&
                       candidate.action == kPoolingWindows.action;
-    Tuned t = done ? pooled : tune(run, labelled, streams, candidate, params);
-    report("windows", t);
-    per_windows.push_back(t.entry);
-    if (per_windows.size() == 1 || betterTuning(t.score, best.score))
-    {
-      best = std::move(t);
-      windows = candidate;
-    }
+    tried[i] = done ? best : tune(run, labelled, streams, candidate, params);
+    report("windows", tried[i]);
+  });
+  std::size_t chosen = 0;
+  json per_windows = json::array();
+  for (std::size_t i = 0; i < tried.size(); ++i)
+  {
+    per_windows.push_back(tried[i].entry);
+    if (betterTuning(tried[i].score, tried[chosen].score))
+      chosen = i;
   }
+  const StreamWindowCounts windows = window_candidates[chosen];
+  best = std::move(tried[chosen]);
   std::vector<std::size_t> rows = run.all_rows;
   std::deque<SampleFrames> store;
   const std::size_t segmented = labelled.size();
@@ -774,7 +784,7 @@ int runOnlineProtocol(const Args& args, const std::vector<SampleRef>& samples, c
   refuseEmptySamples(training, train_frames[0], args.has("allow-empty"));
   const auto stream_frames = extractAll(streams.refs, extractions, tracker, cacheDir(args), jobs);
 
-  OnlineRun run{ training, streams, extractions, train_frames, stream_frames, {}, {} };
+  OnlineRun run{ training, streams, extractions, train_frames, stream_frames, {}, {}, jobs };
   for (std::size_t i = 0; i < training.size(); ++i)
   {
     run.all_rows.push_back(i);
