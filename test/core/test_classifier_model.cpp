@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 
 using namespace action_flow;
 
@@ -277,6 +278,25 @@ void rewriteAsVersion(const std::string& path, std::uint32_t version, Erase eras
   writeAll(path, old + payload);
 }
 
+// Where parameter @p name lies in a model's payload. The parameters come first: a count, then
+// (name, value) strings, each a 64-bit length and its bytes.
+struct PayloadParam
+{
+  std::size_t entry;         // its name's length field
+  std::size_t value_at;      // its value's length field
+  std::uint64_t value_length;
+  std::size_t size() const { return value_at - entry + 8 + value_length; }
+};
+PayloadParam findParam(const std::string& payload, const std::string& name)
+{
+  const auto at = payload.find(name);
+  if (at == std::string::npos || at < 8)
+    throw std::runtime_error("no parameter " + name + " in the payload");
+  PayloadParam e{ at - 8, at + name.size(), 0 };
+  std::memcpy(&e.value_length, payload.data() + e.value_at, 8);
+  return e;
+}
+
 // Files of the formats before version 4 (parameters as fixed binary fields) are refused with a
 // message that says to retrain, not misread.
 TEST(ActionModel, OlderFormatVersionsAreRefusedWithRetrain)
@@ -332,13 +352,8 @@ TEST(ActionModel, OlderFilesLoadWithThePyramidTheyWereTrainedOn)
     return [names](std::string& payload) {
       for (const std::string& name : names)
       {
-        // The parameters come first: a count, then (name, value) strings, each a 64-bit length and its bytes.
-        const auto at = payload.find(name);
-        ASSERT_NE(at, std::string::npos) << name;
-        const std::size_t entry = at - 8;
-        std::uint64_t value_length = 0;
-        std::memcpy(&value_length, payload.data() + at + name.size(), 8);
-        payload.erase(entry, 8 + name.size() + 8 + value_length);
+        const PayloadParam p = findParam(payload, name);
+        payload.erase(p.entry, p.size());
         std::uint64_t count = 0;
         std::memcpy(&count, payload.data(), 8);
         --count;
@@ -372,15 +387,10 @@ TEST(ActionModel, PyramidParameterOutOfRangeIsRefusedByName)
   const std::string path = tempPath("fourier_range.model");
   m.save(path);
   rewriteAsVersion(path, ActionModel::kFormatVersion, [](std::string& payload) {
-    const std::string name = "pyramid/fourier";
-    const auto at = payload.find(name);
-    ASSERT_NE(at, std::string::npos);
-    const std::size_t value_at = at + name.size();
-    std::uint64_t value_length = 0;
-    std::memcpy(&value_length, payload.data() + value_at, 8);
+    const PayloadParam p = findParam(payload, "pyramid/fourier");
     const std::string value = "-3";
     const std::uint64_t new_length = value.size();
-    payload.replace(value_at, 8 + value_length, std::string(reinterpret_cast<const char*>(&new_length), 8) + value);
+    payload.replace(p.value_at, 8 + p.value_length, std::string(reinterpret_cast<const char*>(&new_length), 8) + value);
   });
   try
   {
