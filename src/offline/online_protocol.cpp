@@ -279,20 +279,17 @@ std::vector<PolicyParams> policyCandidates(Recognizer recognizer)
             }
   }
   // The sliding window: the only way for the paper's descriptors (they carry no shape), and a
-  // candidate for posture_flow too. (1.5 s and 8 in a row were added when posture_flow's choice
-  // sat at the grid's edges, 2 s and 5; then votes, k of the last n, for a label that flickers.)
+  // candidate for posture_flow too.
   {
-    const std::pair<int, int> stability[] = { { 2, 0 }, { 3, 0 }, { 5, 0 }, { 8, 0 }, { 3, 5 }, { 4, 6 }, { 5, 8 } };
-    for (double window : { 1.5, 2.0, 3.0 })
+    for (double window : { 2.0, 3.0 })
       for (double confidence : { 0.0, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7 })
-        for (const auto& [count, of] : stability)
+        for (int stable : { 2, 3, 5 })
         {
           PolicyParams p = base;
           p.motion_segments = false;
           p.window = window;
           p.min_confidence = confidence;
-          p.stable_count = count;
-          p.stable_of = of;
+          p.stable_count = stable;
           out.push_back(p);
         }
   }
@@ -328,8 +325,7 @@ json policyJson(const PolicyParams& p)
 {
   return { { "motion_segments", p.motion_segments }, { "motion_on", p.motion_on },         { "motion_off", p.motion_off },   { "rest_time", p.rest_time },
            { "min_confidence", p.min_confidence },
-           { "publish_early", p.publish_early }, { "stable_count", p.stable_count }, { "stable_of", p.stable_of },
-           { "classify_every", p.classify_every },
+           { "publish_early", p.publish_early }, { "stable_count", p.stable_count }, { "classify_every", p.classify_every },
            { "trim", p.trim },
            { "window", p.window },               { "idle_labels", p.idle_labels } };
 }
