@@ -11,8 +11,7 @@
  * seconds, per second, smoothed over motion_smooth seconds) opens a segment when it rises above
  * motion_on and closes it when it has stayed below motion_off for rest_time seconds. The segment's frames, with pre_roll and post_roll seconds of stillness
  * around them (the training samples have such lead-ins), are classified every classify_every
- * frames while it is open; once stable_count of the last stable_of classifications (by default
- * stable_count: that many in a row) agree, with confidence at
+ * frames while it is open; once stable_count classifications in a row agree, with confidence at
  * least min_confidence and a label that is not an idle label, the label is published (Started).
  * When the segment closes, a label already published is closed with its final span (Ended); if
  * none was, the whole segment is classified once and published if it passes the same tests
@@ -58,8 +57,7 @@ struct PolicyParams
   Mode mode = Mode::Segmented;
   int min_frames = 5;             ///< fewer frame descriptors are never classified
   int classify_every = 5;         ///< online: frames between classifications of a track
-  int stable_count = 3;           ///< online: equal classifications before a label is published...
-  int stable_of = 0;              ///< ...among the last stable_of (0: stable_count, i.e. in a row)
+  int stable_count = 3;           ///< online: equal classifications in a row before a label is published
   double min_confidence = 0.0;    ///< online: a label less sure than this is not published (rejection)
   /** Online: labels that mean "no action" and are never published (idle periods look like them). */
   std::vector<std::string> idle_labels = { "standing", kNoActionLabel };
@@ -93,8 +91,7 @@ struct PolicyParams
     v("mode", p.mode, "segmented: a label per sequence; online: labels while people act", s);
     v("min_frames", p.min_frames, "a sequence of fewer frame descriptors is never classified", s);
     v("classify_every", p.classify_every, "online: frames between classifications of a track", s);
-    v("stable_count", p.stable_count, "online: equal classifications before a label is published", s);
-    v("stable_of", p.stable_of, "online: among the last stable_of classifications (0: stable_count, i.e. in a row)", s);
+    v("stable_count", p.stable_count, "online: equal classifications in a row before a label is published", s);
     v("min_confidence", p.min_confidence, "online: a label less sure than this is not published", s);
     v("idle_labels", p.idle_labels, "online: labels that mean no action, never published", s);
     v("motion_segments", p.motion_segments, "online: actions are cut where the body's shape changes", s);
@@ -192,7 +189,8 @@ private:
     std::string published;  // last label published
     // online
     int since_classified = 0;
-    std::deque<std::string> recent;  // the last classifications' labels, newest last (the stability rule)
+    std::string candidate;
+    int candidate_count = 0;
     bool active = false;       // a motion segment is open
     double segment_start = 0;  // stamp where the motion began
     double last_motion = 0;    // last stamp with motion above motion_off (sliding window: that showed the published label)

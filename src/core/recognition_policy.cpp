@@ -44,7 +44,6 @@ void PolicyParams::validate() const
   require(min_frames >= 1, "min_frames >= 1");
   require(classify_every >= 1, "classify_every >= 1");
   require(stable_count >= 1, "stable_count >= 1");
-  require(stable_of == 0 || stable_of >= stable_count, "stable_of 0 or >= stable_count");
   require(min_confidence >= 0.0 && min_confidence <= 1.0, "min_confidence in [0,1]");
   require(motion_on > 0.0 && motion_off > 0.0 && motion_off <= motion_on, "0 < motion_off <= motion_on");
   require(motion_smooth >= 0.0 && rest_time > 0.0 && motion_lag > 0.0, "motion_smooth >= 0, rest_time > 0, motion_lag > 0");
@@ -184,7 +183,8 @@ std::vector<LabelEvent> RecognitionPolicy::addSegmented(std::uint32_t id, Track&
       t.segment_start = firstOrLastMoving(t, true).value_or(now);
       t.last_motion = now;
       t.published_in_segment = false;
-      t.recent.clear();
+      t.candidate.clear();
+      t.candidate_count = 0;
       t.since_classified = 0;
     }
     return {};
@@ -283,10 +283,14 @@ std::optional<Classification> RecognitionPolicy::classify(const Track& t, double
 
 bool RecognitionPolicy::stable(Track& t, const Classification& c) const
 {
-  t.recent.push_back(c.label);
-  while (static_cast<int>(t.recent.size()) > std::max(params_.stable_of, params_.stable_count))
-    t.recent.pop_front();
-  return std::count(t.recent.begin(), t.recent.end(), c.label) >= params_.stable_count;
+  if (c.label == t.candidate)
+    ++t.candidate_count;
+  else
+  {
+    t.candidate = c.label;
+    t.candidate_count = 1;
+  }
+  return t.candidate_count >= params_.stable_count;
 }
 
 bool RecognitionPolicy::publishable(const Classification& c) const

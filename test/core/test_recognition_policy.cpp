@@ -290,47 +290,6 @@ TEST(RecognitionPolicy, SlidingWindowPublishesEachChangeOnce)
   EXPECT_EQ(events[3].event.result.label, "kick");
 }
 
-// stable_count of the last stable_of classifications: a window of 15 frames, classified every 15
-// frames, so that each classification sees one 15-frame piece alone; wave and kick alternate so
-// that wave never wins 3 times in a row but wins 3 of the last 4 from the 4th piece on.
-TEST(RecognitionPolicy, StabilityCountsAgreeingClassificationsAmongTheLast)
-{
-  PolicyParams p = online();
-  p.motion_segments = false;
-  const int n = 15;
-  p.window = (n - 0.5) / kFps;
-  p.classify_every = n;
-  p.stable_count = 3;
-  const double piece = n / kFps;
-  std::vector<Piece> flicker;
-  for (const char* what : { "wave", "kick", "wave", "wave", "kick", "wave", "wave", "kick", "wave", "wave", "kick" })
-    flicker.push_back({ what, piece });
-  {
-    // Each piece alone is classified as what it is (else the test below would prove nothing).
-    PolicyParams every = p;
-    every.stable_count = 1;
-    RecognitionPolicy policy(model(), every);
-    std::vector<std::string> started;
-    for (const auto& e : play(policy, flicker))
-      if (e.event.kind == LabelEvent::Kind::Started)
-        started.push_back(e.event.result.label);
-    EXPECT_EQ(started, (std::vector<std::string>{ "wave", "kick", "wave", "kick", "wave", "kick", "wave", "kick" }));
-  }
-  RecognitionPolicy in_a_row(model(), p);
-  EXPECT_TRUE(play(in_a_row, flicker).empty()) << "3 in a row never happens";
-  p.stable_of = 4;
-  RecognitionPolicy three_of_four(model(), p);
-  const auto events = play(three_of_four, flicker);
-  ASSERT_FALSE(events.empty());
-  EXPECT_EQ(events[0].event.kind, LabelEvent::Kind::Started);
-  EXPECT_EQ(events[0].event.result.label, "wave");
-  EXPECT_NEAR(events[0].at, 4 * piece - 1 / kFps, 1e-6) << "at the 4th piece: wave, kick, wave, wave";
-  for (const auto& e : events)
-    EXPECT_EQ(e.event.result.label, "wave") << "kick never has 3 of the last 4";
-  p.stable_of = 2;
-  EXPECT_THROW(RecognitionPolicy(model(), p), std::invalid_argument) << "stable_of below stable_count";
-}
-
 TEST(RecognitionPolicy, RejectionThresholdSilencesUnsureLabels)
 {
   PolicyParams p = online();
