@@ -616,6 +616,27 @@ std::vector<PyramidParams> poolingCandidates(const std::string& variant, const P
   return out;
 }
 
+/**
+ * Tunes candidates 0..n-1 with @p tune_one, up to @p jobs at once; appends their report entries to
+ * @p entries in candidate order, moves the best (betterTuning; the first of equals) into @p best and
+ * returns its index. The choice does not depend on @p jobs.
+ */
+std::size_t chooseCandidate(int jobs, std::size_t n, json& entries, Tuned& best,
+                            const std::function<Tuned(std::size_t)>& tune_one)
+{
+  std::vector<Tuned> tried(n);
+  forEachParallel(jobs, n, [&](std::size_t i) { tried[i] = tune_one(i); });
+  std::size_t chosen = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    entries.push_back(tried[i].entry);
+    if (betterTuning(tried[i].score, tried[chosen].score))
+      chosen = i;
+  }
+  best = std::move(tried.at(chosen));
+  return chosen;
+}
+
 /** The windows a stream gives while the pooling is chosen: fixed in the code before the choice was first measured. */
 constexpr StreamWindowCounts kPoolingWindows{ 24, 24 };
 
@@ -644,50 +665,31 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
                  pooling.c_str(), t.score.f1, t.score.idle_false_per_minute());
   };
 
-  // First the pooling, at kPoolingWindows; then the windows, with that pooling. The candidates of
-  // each step train at once on up to run.jobs threads; the choice is made afterwards, in candidate order.
+  // First the pooling, at kPoolingWindows; then the windows, with that pooling.
   RecognitionParams params = run.extractions[e];
   const std::vector<PyramidParams> poolings = poolingCandidates(v, params.pyramid);
   json per_pooling = json::array();
   Tuned best;
   if (poolings.size() > 1)
-  {
-    std::vector<Tuned> tried(poolings.size());
-    forEachParallel(run.jobs, poolings.size(), [&](std::size_t i) {
+    params.pyramid = poolings[chooseCandidate(run.jobs, poolings.size(), per_pooling, best, [&](std::size_t i) {
       RecognitionParams p = params;
       p.pyramid = poolings[i];
-      tried[i] = tune(run, labelled, streams, kPoolingWindows, p);
-      report("pooling", tried[i]);
-    });
-    std::size_t chosen = 0;
-    for (std::size_t i = 0; i < tried.size(); ++i)
-    {
-      per_pooling.push_back(tried[i].entry);
-      if (betterTuning(tried[i].score, tried[chosen].score))
-        chosen = i;
-    }
-    params.pyramid = poolings[chosen];
-    best = std::move(tried[chosen]);
-  }
+      Tuned t = tune(run, labelled, streams, kPoolingWindows, p);
+      report("pooling", t);
+      return t;
+    })];
+  const Tuned pooled = best;
   const std::vector<StreamWindowCounts> window_candidates = windowCandidates(v);
-  std::vector<Tuned> tried(window_candidates.size());
-  forEachParallel(run.jobs, window_candidates.size(), [&](std::size_t i) {
-    const StreamWindowCounts& candidate = window_candidates[i];
-    const bool done = !per_pooling.empty() && candidate.no_action == kPoolingWindows.no_action &&
-                      candidate.action == kPoolingWindows.action;
-    tried[i] = done ? best : tune(run, labelled, streams, candidate, params);
-    report("windows", tried[i]);
-  });
-  std::size_t chosen = 0;
   json per_windows = json::array();
-  for (std::size_t i = 0; i < tried.size(); ++i)
-  {
-    per_windows.push_back(tried[i].entry);
-    if (betterTuning(tried[i].score, tried[chosen].score))
-      chosen = i;
-  }
-  const StreamWindowCounts windows = window_candidates[chosen];
-  best = std::move(tried[chosen]);
+  const StreamWindowCounts windows =
+      window_candidates[chooseCandidate(run.jobs, window_candidates.size(), per_windows, best, [&](std::size_t i) {
+        const StreamWindowCounts& candidate = window_candidates[i];
+        const bool done = !per_pooling.empty() && candidate.no_action == kPoolingWindows.no_action &&
+                          candidate.action == kPoolingWindows.action;
+        Tuned t = done ? pooled : tune(run, labelled, streams, candidate, params);
+        report("windows", t);
+        return t;
+      })];
   std::vector<std::size_t> rows = run.all_rows;
   std::deque<SampleFrames> store;
   const std::size_t segmented = labelled.size();
