@@ -1,14 +1,13 @@
 #include "evaluation.h"
+#include "workers.h"
 
 #include <action_flow/files.h>
 #include <action_flow/posture_flow.h>
 #include <action_flow/sequence_descriptor.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <numeric>
-#include <thread>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -655,37 +654,25 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
   // Folds are independent: up to `jobs` of them train at once; their answers are merged in fold order.
   std::vector<std::vector<Classification>> predicted(folds.size());
   std::vector<PyramidParams> chosen(folds.size());
-  std::vector<std::string> errors(folds.size());
-  std::atomic<std::size_t> next{ 0 };
-  const auto worker = [&]() {
-    for (std::size_t f = next++; f < folds.size(); f = next++)
+  forEachParallel(jobs, folds.size(), [&](std::size_t f) {
+    const Fold& fold = folds[f];
+    if (fold.test.empty())
+      return;
+    try
     {
-      const Fold& fold = folds[f];
-      if (fold.test.empty())
-        continue;
-      try
-      {
-        const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr);
-        chosen[f] = model.params.pyramid;
-        const SequenceClassifier classifier = model.classifier();
-        for (std::size_t t : fold.test)
-          predicted[f].push_back(classifier.classify(sequenceOf(samples[t], model)));
-      }
-      catch (const std::exception& e)
-      {
-        errors[f] = e.what();
-      }
+      const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr);
+      chosen[f] = model.params.pyramid;
+      const SequenceClassifier classifier = model.classifier();
+      for (std::size_t t : fold.test)
+        predicted[f].push_back(classifier.classify(sequenceOf(samples[t], model)));
     }
-  };
-  std::vector<std::thread> pool;
-  for (int j = 0; j < std::max(1, jobs); ++j)
-    pool.emplace_back(worker);
-  for (auto& t : pool)
-    t.join();
+    catch (const std::exception& e)
+    {
+      throw std::runtime_error("fold '" + fold.name + "': " + e.what());
+    }
+  });
   for (std::size_t f = 0; f < folds.size(); ++f)
   {
-    if (!errors[f].empty())
-      throw std::runtime_error("fold '" + folds[f].name + "': " + errors[f]);
     if (folds[f].test.empty())
       continue;
     Confusion mine(all.labels);

@@ -26,7 +26,6 @@
 #include <sstream>
 #include <set>
 #include <string>
-#include <thread>
 #include <unistd.h>
 #include <vector>
 
@@ -422,11 +421,7 @@ std::string renderAll(const Settings& st, const std::vector<SampleSpec>& selecte
       }
     }
   };
-  std::vector<std::thread> threads;
-  for (int j = 0; j < std::min<int>(st.jobs, int(selected.size())); ++j)
-    threads.emplace_back(worker);
-  for (auto& t : threads)
-    t.join();
+  action_flow::runWorkers(std::min<int>(st.jobs, int(selected.size())), worker);
   return first_error;
 }
 

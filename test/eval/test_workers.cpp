@@ -1,16 +1,16 @@
-// forEachParallel (src/offline/cli.h), on which the tools train and extract at once: every item
+// forEachParallel (src/eval/workers.h), on which the tools train and extract at once: every item
 // runs exactly once whatever the thread count, and an error reaches the caller only after every
 // item has stopped, the lowest index's first.
 #include <gtest/gtest.h>
 
-#include "../../src/offline/cli.h"
+#include "../../src/eval/workers.h"
 
 #include <atomic>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-using action_flow::tools::forEachParallel;
+using action_flow::forEachParallel;
 
 TEST(Workers, EveryItemRunsOnceWhateverTheJobs)
 {
