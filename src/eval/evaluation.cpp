@@ -370,12 +370,15 @@ struct HeldOutAnswers
 // their mirrored copies, when given), for each of @p cs; empty when the fold cannot be used.
 std::vector<HeldOutAnswers> foldAnswers(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
                                    const std::vector<std::string>& labels, const std::vector<std::string>& persons,
-                                   const std::vector<std::string>& held_out, const std::vector<double>& cs)
+                                   const std::vector<std::string>& held_out, const std::vector<double>& cs,
+                                   const std::vector<bool>* queries)
 {
   std::vector<Eigen::Index> train, test;
   for (std::size_t i = 0; i < labels.size(); ++i)
-    (std::find(held_out.begin(), held_out.end(), persons[i]) != held_out.end() ? test : train)
-        .push_back(static_cast<Eigen::Index>(i));
+    if (std::find(held_out.begin(), held_out.end(), persons[i]) == held_out.end())
+      train.push_back(static_cast<Eigen::Index>(i));
+    else if (!queries || (*queries)[i])
+      test.push_back(static_cast<Eigen::Index>(i));
   std::vector<std::string> train_labels;
   for (Eigen::Index i : train)
     train_labels.push_back(labels[i]);
@@ -429,8 +432,10 @@ const std::vector<double>& linearCandidates()
 LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
                           const std::vector<std::string>& labels, const std::vector<std::string>& persons,
                           const std::vector<bool>& mirror_options, const std::vector<double>& c_options,
-                          int inner_folds)
+                          int inner_folds, const std::vector<bool>* queries)
 {
+  if (queries && queries->size() != labels.size())
+    throw std::invalid_argument("chooseLinear: one query flag per row is needed");
   const std::vector<std::string> people = uniqueSorted(persons);
   const int k = std::min<int>(inner_folds, static_cast<int>(people.size()));
   LinearChoice best{ c_options.front(), mirror_options.front(), -1.0 };
@@ -449,7 +454,8 @@ LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirro
       std::vector<std::string> held_out;
       for (std::size_t p = f; p < people.size(); p += k)
         held_out.push_back(people[p]);
-      const std::vector<HeldOutAnswers> a = foldAnswers(x, m ? mirrored : nullptr, labels, persons, held_out, c_options);
+      const std::vector<HeldOutAnswers> a =
+          foldAnswers(x, m ? mirrored : nullptr, labels, persons, held_out, c_options, queries);
       if (a.empty())
         continue;
       for (std::size_t i = 0; i < a.size(); ++i)
@@ -513,6 +519,7 @@ struct TrainingRows
   const std::vector<LabelledSample>& samples;
   const std::vector<std::size_t>& rows;
   std::vector<std::string> labels, persons;
+  std::vector<bool> queries;  // per row: not a training copy
 
   TrainingRows(const std::vector<LabelledSample>& s, const std::vector<std::size_t>& r) : samples(s), rows(r)
   {
@@ -520,6 +527,7 @@ struct TrainingRows
     {
       labels.push_back(samples[i].action);
       persons.push_back(samples[i].person);
+      queries.push_back(!samples[i].copy);
     }
   }
 
@@ -569,7 +577,7 @@ double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, Pyr
       Eigen::MatrixXf xe, me;
       t.describe(model, e, p, mirror_options.back(), xe, me);
       const LinearChoice choice =
-          chooseLinear(xe, me.size() ? &me : nullptr, t.labels, t.persons, mirror_options, c_options);
+          chooseLinear(xe, me.size() ? &me : nullptr, t.labels, t.persons, mirror_options, c_options, 3, &t.queries);
       if (x.size() == 0 || choice.score > best.score + 1e-9)
       {
         best = choice;
@@ -647,10 +655,15 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
   }
   for (const Fold& fold : folds)
     for (std::size_t t : fold.test)
+    {
+      if (samples[t].copy)
+        throw std::invalid_argument("runFolds: fold '" + fold.name + "' tests a training copy of " +
+                                    samples[t].person + "'s " + samples[t].action);
       for (std::size_t r : fold.train)
         if (samples[t].person == samples[r].person)
           throw std::invalid_argument("runFolds: fold '" + fold.name + "' trains on person " + samples[r].person +
                                       " whom it tests");
+    }
   // Folds are independent: up to `jobs` of them train at once; their answers are merged in fold order.
   std::vector<std::vector<Classification>> predicted(folds.size());
   std::vector<PyramidParams> chosen(folds.size());

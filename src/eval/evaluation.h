@@ -125,6 +125,9 @@ struct LabelledSample
   std::string person;
   std::string action;
   const SampleFrames* frames = nullptr;
+  /** A training copy (the same motion rendered again, synth::SampleSpec::copy): it trains, and it is
+   *  never tested nor a held-out query of the inner cross-validation. */
+  bool copy = false;
 };
 
 /**
@@ -161,11 +164,13 @@ struct LinearChoice
  *        accuracy wins (on a tie the earlier option). The temperature that calibrates the
  *        probabilities is fitted on the held-out answers of the setting chosen. Only the rows given
  *        are seen, so called on a fold's training set it never sees a test person.
+ * @param queries if given, the rows that may be held-out queries (false: a training copy, which
+ *        trains when its person is not held out and is never asked)
  */
 LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
                           const std::vector<std::string>& labels, const std::vector<std::string>& persons,
                           const std::vector<bool>& mirror_options, const std::vector<double>& c_options,
-                          int inner_folds = 3);
+                          int inner_folds = 3, const std::vector<bool>* queries = nullptr);
 
 /** @brief The PCA basis trainModel fits on the frame descriptors of @p rows. */
 Pca fitPca(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows, double variance);
@@ -181,7 +186,8 @@ Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& mode
  * @param jobs folds trained at once (threads)
  * @param fold_choices if given, receives each tested fold's model's pyramid parameters: what its
  *        cross-validation chose (C, mirror, posture, flow encoding)
- * @throws std::invalid_argument if a fold's training set contains a person of its test set
+ * @throws std::invalid_argument if a fold's training set contains a person of its test set, or if
+ *         it tests a training copy (LabelledSample::copy)
  */
 Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
                    const RecognitionParams& params, std::vector<double>* fold_accuracy = nullptr,

@@ -287,6 +287,9 @@ void addSampleOptions(Options& o)
       .value("facing-spread", "DEG", "ias: +- this around --facing (default 30)")
       .value("seed", "N", "dataset seed (default 1)")
       .value("max-frames", "N", "render at most N frames of each sample (default 0: all)")
+      .value("training-copies", "N",
+             "msr: also render each training sample N more times, with another body, pace, turn and distance "
+             "(training-time augmentation; copies train, are never tested; default 0)")
       .value("index", "INDEX.csv", "bags listed in a dataset index instead (docs/synth.md)")
       .value("points-topic", "T", "the index's bags' cloud topic (IAS-Lab layout by default)")
       .value("depth-topic", "T", "their depth image topic")
@@ -385,6 +388,15 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
   if (!(std::abs(facing) <= 180.0) || !(spread >= 0.0 && spread <= 180.0))
     throw UsageError("--facing must be in -180..180 and --facing-spread in 0..180 (degrees)");
   const int max_frames = static_cast<int>(args.integer("max-frames", 0, 0, 100000));
+  const int copies = static_cast<int>(args.integer("training-copies", 0, 0, 99));
+  if (copies > 0 && which != "msr")
+    throw UsageError("--training-copies renders copies of --synth msr samples only");
+  const std::string protocol = args.get("protocol", "lopo");
+  if (copies > 0 && protocol != "lopo" && protocol != "cross-subject")
+    throw UsageError("--training-copies is for train and for evaluate's protocols lopo and cross-subject");
+  // Cross-subject: only the training subjects' samples train, so only theirs are copied.
+  const std::vector<std::string> copied =
+      protocol == "cross-subject" ? splitList(args.get("train-persons", "s01,s03,s05,s07,s09")) : std::vector<std::string>{};
   std::vector<SampleRef> out;
   for (auto spec : specs)
   {
@@ -392,6 +404,9 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
     spec.facing = facing;
     spec.facing_spread = spread;
     out.push_back(renderedSample(spec));
+    if (copied.empty() || std::find(copied.begin(), copied.end(), spec.person) != copied.end())
+      for (spec.copy = 1; spec.copy <= copies; ++spec.copy)
+        out.push_back(renderedSample(spec));
   }
   return out;
 }
@@ -476,6 +491,7 @@ SampleRef renderedSample(const synth::SampleSpec& spec)
   s.action = spec.action;
   s.repetition = spec.repetition;
   s.skeleton_file = spec.skeleton_file;
+  s.copy = spec.copy;
   s.where = "rendered sample " + s.key;
   s.fingerprint = std::string(kRendererRevision) + ":" + spec.name() + ":" + std::to_string(spec.seed) + ":" +
                   std::to_string(spec.max_frames);

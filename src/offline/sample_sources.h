@@ -23,6 +23,7 @@ struct SampleRef
   int repetition = 0;
   std::string fingerprint;  // changes when the sample's content would (file size+mtime, renderer version)
   std::string skeleton_file;  // MSR Action3D samples: the skeleton file they were rendered from
+  int copy = 0;               // a training copy (synth::SampleSpec::copy): it trains, it is never tested
   std::string where;          // for messages: the bag's path, or "rendered <key>"
   bool all_tracks = false;    // a stream: every track's descriptors, not only the performer's
   std::function<std::unique_ptr<FrameSource>()> open;

@@ -83,7 +83,7 @@ std::string SampleSpec::name() const
     const int s = person.size() > 1 ? std::atoi(person.c_str() + 1) : 0;
     char buf[32];
     std::snprintf(buf, sizeof buf, "a%02d_s%02d_e%02d", a, s, repetition);
-    return buf;
+    return copy > 0 ? std::string(buf) + "_c" + std::to_string(copy) : std::string(buf);
   }
   if (dataset == "stream")
     return person + "_stream_" + std::to_string(repetition);
@@ -271,6 +271,7 @@ struct SampleRenderer::Impl
   void buildClutter();
   void buildStream();
   void buildMsr();
+  void buildMsrCopy();
   void buildMsrStream();
   void drawCamera(Rng& r);
   bool visible(const std::vector<Skeleton>& joints, int step) const;
@@ -628,11 +629,55 @@ std::vector<StreamSegment> readSegmentsFile(const std::string& path, int source_
 
 void SampleRenderer::Impl::buildMsr()
 {
+  if (spec.copy < 0 || spec.copy > 99)
+    throw std::invalid_argument("a training copy's number must be 0..99, got " + std::to_string(spec.copy));
+  if (spec.copy > 0)
+  {
+    buildMsrCopy();
+    return;
+  }
   MsrMotion motion = msrMotion(parseMsrSkeletonFile(spec.skeleton_file), camera.fps);
   actor = makeActor(spec.person, spec.seed);
   actor.shape.height = motion.height;
   world = std::move(motion.joints);
   forward = std::move(motion.forward);
+  Room room = Room::lab(std::uint32_t(spec.seed));
+  addSpareChair(room, spec.seed);
+  scene.reset(new SceneRenderer(camera, room));
+  segments = { { spec.action, 0, int(world.size()) - 1 } };
+}
+
+void SampleRenderer::Impl::buildMsrCopy()
+{
+  Rng r(hash64(spec.seed, hashString(spec.name()), 0xc0b1));
+  const double pace = r.uniform(0.8, 1.2);
+  // Resampled for a camera pace times slower, played at the camera's rate: pace times as fast.
+  MsrMotion motion = msrMotion(parseMsrSkeletonFile(spec.skeleton_file), camera.fps / pace);
+  actor = makeActor(spec.person, hash64(spec.seed, std::uint64_t(spec.copy), 0xb0d1));
+  actor.shape.height = motion.height;
+  // Turned about the vertical through the first frame's torso, then moved along its bearing.
+  const Eigen::Vector3f centre(motion.joints.front()[Joint::Torso].x(), motion.joints.front()[Joint::Torso].y(), 0.0f);
+  const float turn = float(r.uniform(-30.0, 30.0)) * kPi / 180.0f;
+  const Eigen::Vector3f bearing = centre.norm() > 1e-3f ? Eigen::Vector3f(centre.normalized()) : Eigen::Vector3f::UnitX();
+  const auto place = [&](float distance) {
+    Eigen::Isometry3f t = Eigen::Isometry3f::Identity();
+    t.translate(bearing * distance);
+    t.rotate(Eigen::AngleAxisf(turn, Eigen::Vector3f::UnitZ()));
+    t.translate(-centre);
+    world.resize(motion.joints.size());
+    for (size_t f = 0; f < motion.joints.size(); ++f)
+      world[f] = transformed(motion.joints[f], t);
+    forward.resize(motion.forward.size());
+    for (size_t f = 0; f < motion.forward.size(); ++f)
+      forward[f] = t.linear() * motion.forward[f];
+  };
+  float distance = float(r.uniform(1.5, 4.5));
+  place(distance);
+  while (!visible(world, 2) && distance < 4.5f)
+  {
+    distance = std::min(4.5f, distance + 0.1f);
+    place(distance);
+  }
   Room room = Room::lab(std::uint32_t(spec.seed));
   addSpareChair(room, spec.seed);
   scene.reset(new SceneRenderer(camera, room));
@@ -704,6 +749,9 @@ SampleRenderer::SampleRenderer(const SampleSpec& spec, const CameraModel& camera
   impl_->spec = spec;
   impl_->camera = camera;
   impl_->label = spec.action;
+  if (spec.copy != 0 && spec.dataset != "msr")
+    throw std::invalid_argument("training copies are rendered of msr samples only, not of " + spec.dataset + " '" +
+                                spec.name() + "'");
   if (spec.dataset == "ias")
     impl_->buildIas();
   else if (spec.dataset == "stream")

@@ -115,6 +115,7 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
   {
     if (samples[i].skeleton_file.empty())
       throw std::invalid_argument("the joints baseline needs MSR Action3D samples (--synth msr)");
+    // x keeps a row per sample; a training copy's (the same skeleton file) is never used below.
     const SampleFrames f = jointFrames(samples[i].skeleton_file);
     std::vector<Eigen::VectorXf> frames;
     for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r)
@@ -132,7 +133,10 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
   Confusion all(uniqueSorted(labels));
   for (const Fold& fold : folds)
   {
-    std::vector<Eigen::Index> train(fold.train.begin(), fold.train.end());
+    std::vector<Eigen::Index> train;
+    for (std::size_t r : fold.train)
+      if (samples[r].copy == 0)  // a rendering's copy has the same joints
+        train.push_back(static_cast<Eigen::Index>(r));
     std::vector<std::string> train_labels, train_persons;
     for (auto r : train)
     {
@@ -283,20 +287,36 @@ std::vector<LabelledSample> labelledSamples(const std::vector<SampleRef>& sample
 {
   std::vector<LabelledSample> out;
   for (std::size_t i = 0; i < samples.size(); ++i)
-    out.push_back({ samples[i].person, samples[i].action, &frames[i] });
+    out.push_back({ samples[i].person, samples[i].action, &frames[i], samples[i].copy > 0 });
   return out;
 }
 
-std::vector<Fold> protocolFolds(const std::string& protocol, const std::vector<std::string>& persons, const Args& args,
+std::vector<std::string> personsOf(const std::vector<SampleRef>& samples)
+{
+  std::vector<std::string> persons;
+  for (const auto& s : samples)
+    persons.push_back(s.person);
+  return persons;
+}
+
+// The protocol's folds; training copies (--training-copies) train with their person and are never tested.
+std::vector<Fold> protocolFolds(const std::string& protocol, const std::vector<SampleRef>& samples, const Args& args,
                                 const CrossViewSet& cross_view)
 {
+  const std::vector<std::string> persons = personsOf(samples);
+  std::vector<Fold> folds;
   if (protocol == "lopo")
-    return leaveOnePersonOut(persons);
-  if (protocol == "cross-subject")
-    return { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
-  if (protocol == "cross-view")
-    return crossViewFolds(cross_view);
-  throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, cross-view, online, crowd or detection)");
+    folds = leaveOnePersonOut(persons);
+  else if (protocol == "cross-subject")
+    folds = { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
+  else if (protocol == "cross-view")
+    folds = crossViewFolds(cross_view);
+  else
+    throw UsageError("unknown protocol '" + protocol + "' (lopo, cross-subject, cross-view, online, crowd or detection)");
+  for (Fold& fold : folds)
+    fold.test.erase(std::remove_if(fold.test.begin(), fold.test.end(), [&](std::size_t t) { return samples[t].copy > 0; }),
+                    fold.test.end());
+  return folds;
 }
 
 // Each variant over the folds: its accuracy, per-fold accuracies, confusion matrix (also written
@@ -400,14 +420,6 @@ Evaluation parseEvaluation(const Args& args)
   return e;
 }
 
-std::vector<std::string> personsOf(const std::vector<SampleRef>& samples)
-{
-  std::vector<std::string> persons;
-  for (const auto& s : samples)
-    persons.push_back(s.person);
-  return persons;
-}
-
 // The report's opening: the protocol, its folds and its samples.
 json reportHead(const Evaluation& e, const std::vector<std::string>& persons,
                 const std::vector<Fold>& folds, const std::vector<SampleFrames>& frames)
@@ -487,7 +499,7 @@ int main(int argc, char** argv)
     const std::vector<Variant> variants = selectVariants(table.all, args);
     installInterruptHandler();
     const std::vector<std::string> persons = personsOf(e.samples);
-    const std::vector<Fold> folds = protocolFolds(e.protocol, persons, args, e.cross_view);
+    const std::vector<Fold> folds = protocolFolds(e.protocol, e.samples, args, e.cross_view);
     std::fprintf(stderr, "evaluate: %zu samples, %zu people, %zu folds (%s)\n", e.samples.size(),
                  uniqueSorted(persons).size(), folds.size(), e.protocol.c_str());
 

@@ -214,6 +214,43 @@ TEST(Experiments, SeparableActionsAreAllRecognised)
   Fold leaky = leaveOnePersonOut(persons)[0];
   leaky.train.push_back(leaky.test[0]);
   EXPECT_THROW(runFolds(samples, { leaky }, params), std::invalid_argument);
+
+  // A fold that tests a training copy (it trains, it is never tested) is refused.
+  std::vector<LabelledSample> with_copy = samples;
+  with_copy.push_back({ "p0", "wave", &frames[0], true });
+  Fold tests_copy = leaveOnePersonOut(persons)[0];
+  tests_copy.test.push_back(with_copy.size() - 1);
+  EXPECT_THROW(runFolds(with_copy, { tests_copy }, params), std::invalid_argument);
+}
+
+// Training copies train but are never the inner cross-validation's queries: here every person's
+// copy lies apart from the actions and bears a label that no other person's copy predicts, so
+// asked, it would be answered wrong; not asked, the held-out originals are all right.
+TEST(Experiments, TrainingCopiesAreNeverHeldOutQueries)
+{
+  Eigen::MatrixXf x(18, 3);
+  std::vector<std::string> labels, persons;
+  std::vector<bool> queries;
+  for (int p = 0; p < 6; ++p)
+  {
+    for (int a = 0; a < 2; ++a)
+    {
+      x.row(labels.size()) << (a == 0 ? 3.0f : -3.0f), 0.1f * p, 0.0f;
+      labels.push_back(a == 0 ? "a" : "b");
+      persons.push_back("p" + std::to_string(p));
+      queries.push_back(true);
+    }
+    x.row(labels.size()) << 0.0f, 0.0f, 5.0f;  // the copy: the same place for everyone, labels alternating
+    labels.push_back(p % 2 ? "a" : "b");
+    persons.push_back("p" + std::to_string(p));
+    queries.push_back(false);
+  }
+  const LinearChoice honest = chooseLinear(x, nullptr, labels, persons, { false }, { 1.0 }, 3, &queries);
+  EXPECT_DOUBLE_EQ(honest.score, 1.0);
+  const LinearChoice asked = chooseLinear(x, nullptr, labels, persons, { false }, { 1.0 }, 3);
+  EXPECT_LT(asked.score, 1.0) << "asked, the copies would be answered wrong";
+  const std::vector<bool> short_flags(3, true);
+  EXPECT_THROW(chooseLinear(x, nullptr, labels, persons, { false }, { 1.0 }, 3, &short_flags), std::invalid_argument);
 }
 
 TEST(Experiments, SampleWithoutFlowIsAStillFrame)

@@ -326,6 +326,58 @@ TEST(Msr, RendersRealSkeletonsWithTheRightArmWaving)
   EXPECT_GT(std::count(mask.begin(), mask.end(), 1), 4000);
 }
 
+// A training copy is the same recorded motion with another body, pace, turn and distance: the
+// joints keep their distances from the torso (turned and moved, not deformed), the frame count
+// follows the pace, the whole body stays in view, and the recording itself is unchanged.
+TEST(Msr, TrainingCopiesRenderTheSameMotionOtherwise)
+{
+  const std::string folder = std::string(ACTION_FLOW_SHARED_DATA) + "/msr_action3d_skeletons";
+  if (!std::filesystem::exists(folder))
+    GTEST_SKIP() << "MSR skeletons not found at " << folder;
+  const SampleSpec original = msrSamples(folder).front();
+  const SampleRenderer r0(original);
+  const int n15 = int(parseMsrSkeletonFile(original.skeleton_file).frames.size());
+  std::set<int> frame_counts;
+  std::set<float> builds;
+  for (int k = 1; k <= 4; ++k)
+  {
+    SampleSpec copy = original;
+    copy.copy = k;
+    EXPECT_EQ(copy.name(), "a01_s01_e01_c" + std::to_string(k));
+    const SampleRenderer r(copy);
+    EXPECT_EQ(r.label(), original.action);
+    // Paced 0.8-1.2 times: 30 fps frames of (n15 - 1) / 15 s divided by the pace.
+    EXPECT_GE(r.frames(), int(std::floor(2.0 * (n15 - 1) / 1.2)));
+    EXPECT_LE(r.frames(), int(std::ceil(2.0 * (n15 - 1) / 0.8)) + 1);
+    frame_counts.insert(r.frames());
+    // The first frames are the same pose (both start at the recording's frame 0): each joint as far
+    // from the torso, and the head as high above the floor.
+    for (int j = 0; j < kJointCount; ++j)
+      EXPECT_NEAR((r.worldSkeleton(0).joints[j] - r.worldSkeleton(0)[Joint::Torso]).norm(),
+                  (r0.worldSkeleton(0).joints[j] - r0.worldSkeleton(0)[Joint::Torso]).norm(), 1e-4)
+          << copy.name() << " joint " << j;
+    EXPECT_NEAR(r.worldSkeleton(0)[Joint::Head].z(), r0.worldSkeleton(0)[Joint::Head].z(), 1e-4);
+    const float distance = r.worldSkeleton(0)[Joint::Torso].head<2>().norm();
+    EXPECT_GE(distance, 1.5f);
+    EXPECT_LE(distance, 4.5f + 1e-4f);
+    builds.insert(r.posedBody(0).shape.build);
+    action_flow::Cloud cloud;
+    std::vector<std::uint8_t> mask;
+    r.render(r.frames() / 2, cloud, &mask);
+    EXPECT_GT(std::count(mask.begin(), mask.end(), 1), 2000) << copy.name();
+  }
+  EXPECT_GE(frame_counts.size(), 2u) << "the pace is drawn per copy";
+  EXPECT_GE(builds.size(), 3u) << "each copy has a body of its own";
+  // The recording itself is rendered as before copies existed: from the original's own draws.
+  EXPECT_EQ(r0.frames(), 2 * n15 - 1);
+  SampleSpec ias_copy = ias("p01", "wave", 1);
+  ias_copy.copy = 1;
+  EXPECT_THROW(SampleRenderer{ ias_copy }, std::invalid_argument);
+  SampleSpec too_many = original;
+  too_many.copy = 100;
+  EXPECT_THROW(SampleRenderer{ too_many }, std::invalid_argument);
+}
+
 TEST(SceneRenderer, TwoPeopleGetTheirOwnMaskIds)
 {
   const SampleRenderer a(ias("p01", "wave", 1, 5)), b(ias("p02", "walk", 1, 5));

@@ -92,10 +92,20 @@ struct SampleSpec
   double facing_spread = 30.0;
 
   /**
+   * msr: 0 for the recording itself; k >= 1 for its k-th training copy (training-time augmentation,
+   * docs/synth.md "Training copies"): the same recorded motion rendered again with another body and
+   * clothes (makeActor of another seed; the height stays the skeleton's), paced 0.8-1.2 times as fast,
+   * turned -30..30 degrees about the body's vertical axis and placed 1.5-4.5 m from the camera (moved
+   * back until the whole body is in view), each drawn from the spec. The name ends in "_c<k>".
+   */
+  int copy = 0;
+
+  /**
    * @brief "p01_wave_1" / "a01_s01_e01" / "p01_stream_1" / "s01_msr_stream_1" (a continuous file:
    *        its file name without extension, file-name safe) / "crowd3_1" (people, scene) /
    *        "wall_03" (clutter: scene type and number): unique within a dataset, used as the bag's base name.
-   *        An ias sample placed other than by default ends in "_f<facing>s<spread>" ("p01_wave_1_f90s0").
+   *        An ias sample placed other than by default ends in "_f<facing>s<spread>" ("p01_wave_1_f90s0"),
+   *        an msr training copy in "_c<copy>" ("a01_s01_e01_c2").
    */
   std::string name() const;
 };
