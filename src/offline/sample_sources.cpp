@@ -290,6 +290,7 @@ void addSampleOptions(Options& o)
       .value("training-copies", "N",
              "msr: also render each training sample N more times, with another body, pace, turn and distance "
              "(training-time augmentation; copies train, are never tested; default 0)")
+      .value("copy-changes", "a,b,...", "msr: what a training copy changes, of body, pace, turn, distance (default all)")
       .value("index", "INDEX.csv", "bags listed in a dataset index instead (docs/synth.md)")
       .value("points-topic", "T", "the index's bags' cloud topic (IAS-Lab layout by default)")
       .value("depth-topic", "T", "their depth image topic")
@@ -394,6 +395,17 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
   const std::string protocol = args.get("protocol", "lopo");
   if (copies > 0 && protocol != "lopo" && protocol != "cross-subject")
     throw UsageError("--training-copies is for train and for evaluate's protocols lopo and cross-subject");
+  unsigned changes = 0;
+  for (const std::string& c : splitList(args.get("copy-changes", "body,pace,turn,distance")))
+  {
+    const std::vector<std::string> names = { "body", "pace", "turn", "distance" };
+    const auto at = std::find(names.begin(), names.end(), c);
+    if (at == names.end())
+      throw UsageError("--copy-changes: '" + c + "' is none of body, pace, turn, distance");
+    changes |= 1u << (at - names.begin());
+  }
+  if (changes == 0)
+    throw UsageError("--copy-changes names no change");
   // Cross-subject: only the training subjects' samples train, so only theirs are copied.
   const std::vector<std::string> copied =
       protocol == "cross-subject" ? splitList(args.get("train-persons", "s01,s03,s05,s07,s09")) : std::vector<std::string>{};
@@ -406,7 +418,10 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
     out.push_back(renderedSample(spec));
     if (copied.empty() || std::find(copied.begin(), copied.end(), spec.person) != copied.end())
       for (spec.copy = 1; spec.copy <= copies; ++spec.copy)
+      {
+        spec.copy_changes = changes;
         out.push_back(renderedSample(spec));
+      }
   }
   return out;
 }

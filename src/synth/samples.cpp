@@ -83,7 +83,20 @@ std::string SampleSpec::name() const
     const int s = person.size() > 1 ? std::atoi(person.c_str() + 1) : 0;
     char buf[32];
     std::snprintf(buf, sizeof buf, "a%02d_s%02d_e%02d", a, s, repetition);
-    return copy > 0 ? std::string(buf) + "_c" + std::to_string(copy) : std::string(buf);
+    std::string n = buf;
+    if (copy > 0)
+    {
+      n += "_c" + std::to_string(copy);
+      if (copy_changes != kCopyAll)
+      {
+        n += "_";
+        const char letters[] = "bptd";
+        for (int b = 0; b < 4; ++b)
+          if (copy_changes & (1u << b))
+            n += letters[b];
+      }
+    }
+    return n;
   }
   if (dataset == "stream")
     return person + "_stream_" + std::to_string(repetition);
@@ -631,6 +644,9 @@ void SampleRenderer::Impl::buildMsr()
 {
   if (spec.copy < 0 || spec.copy > 99)
     throw std::invalid_argument("a training copy's number must be 0..99, got " + std::to_string(spec.copy));
+  if (spec.copy > 0 && (spec.copy_changes == 0 || spec.copy_changes > kCopyAll))
+    throw std::invalid_argument("a training copy must make some of the changes 1..15, got " +
+                                std::to_string(spec.copy_changes));
   if (spec.copy > 0)
   {
     buildMsrCopy();
@@ -649,15 +665,22 @@ void SampleRenderer::Impl::buildMsr()
 
 void SampleRenderer::Impl::buildMsrCopy()
 {
-  Rng r(hash64(spec.seed, hashString(spec.name()), 0xc0b1));
-  const double pace = r.uniform(0.8, 1.2);
+  // Every draw is made whichever changes are, so that a change draws the same value without the others.
+  SampleSpec all = spec;
+  all.copy_changes = kCopyAll;
+  Rng r(hash64(spec.seed, hashString(all.name()), 0xc0b1));
+  const unsigned changes = spec.copy_changes;
+  const double pace_drawn = r.uniform(0.8, 1.2);
+  const double pace = (changes & kCopyPace) ? pace_drawn : 1.0;
   // Resampled for a camera pace times slower, played at the camera's rate: pace times as fast.
   MsrMotion motion = msrMotion(parseMsrSkeletonFile(spec.skeleton_file), camera.fps / pace);
-  actor = makeActor(spec.person, hash64(spec.seed, std::uint64_t(spec.copy), 0xb0d1));
+  actor = makeActor(spec.person,
+                    (changes & kCopyBody) ? hash64(spec.seed, std::uint64_t(spec.copy), 0xb0d1) : spec.seed);
   actor.shape.height = motion.height;
   // Turned about the vertical through the first frame's torso, then moved along its bearing.
   const Eigen::Vector3f centre(motion.joints.front()[Joint::Torso].x(), motion.joints.front()[Joint::Torso].y(), 0.0f);
-  const float turn = float(r.uniform(-30.0, 30.0)) * kPi / 180.0f;
+  const double turn_drawn = r.uniform(-30.0, 30.0);
+  const float turn = (changes & kCopyTurn) ? float(turn_drawn) * kPi / 180.0f : 0.0f;
   const Eigen::Vector3f bearing = centre.norm() > 1e-3f ? Eigen::Vector3f(centre.normalized()) : Eigen::Vector3f::UnitX();
   const auto place = [&](float distance) {
     Eigen::Isometry3f t = Eigen::Isometry3f::Identity();
@@ -671,9 +694,11 @@ void SampleRenderer::Impl::buildMsrCopy()
     for (size_t f = 0; f < motion.forward.size(); ++f)
       forward[f] = t.linear() * motion.forward[f];
   };
-  float distance = float(r.uniform(1.5, 4.5));
+  const double distance_drawn = r.uniform(1.5, 4.5);
+  float distance = (changes & kCopyDistance) ? float(distance_drawn) : centre.norm();
   place(distance);
-  while (!visible(world, 2) && distance < 4.5f)
+  // Moved back to fit only where the copy is turned or moved anyway: otherwise it stays where it was recorded.
+  while ((changes & (kCopyTurn | kCopyDistance)) && !visible(world, 2) && distance < 4.5f)
   {
     distance = std::min(4.5f, distance + 0.1f);
     place(distance);

@@ -138,7 +138,7 @@ TEST(Tools, OutOfRangeOptionsAreUsageErrorsNamingTheOption)
 {
   for (const std::string bad : { "--jobs 100000", "--jobs -3", "--people 0x10", "--max-frames -5", "--sweep 1000000",
                                  "--frames 10x", "--temporal-levels 9", "--c -1", "--bogus",
-                                 "--training-copies 2" /* msr only */, "--training-copies 100" })
+                                 "--training-copies 2" /* msr only */, "--training-copies 100", "--copy-changes hat" })
   {
     const Result r = run(kBin + "/evaluate --output /nonexistent --synth ias " + bad);
     EXPECT_EQ(WEXITSTATUS(r.status), 2) << bad << ": " << r.output;

@@ -367,6 +367,25 @@ TEST(Msr, TrainingCopiesRenderTheSameMotionOtherwise)
     EXPECT_GT(std::count(mask.begin(), mask.end(), 1), 2000) << copy.name();
   }
   EXPECT_GE(frame_counts.size(), 2u) << "the pace is drawn per copy";
+  // Some changes only: each draws what it draws with all of them.
+  SampleSpec all = original, body = original, pace = original;
+  all.copy = body.copy = pace.copy = 1;
+  body.copy_changes = kCopyBody;
+  pace.copy_changes = kCopyPace | kCopyDistance;
+  EXPECT_EQ(body.name(), "a01_s01_e01_c1_b");
+  EXPECT_EQ(pace.name(), "a01_s01_e01_c1_pd");
+  const SampleRenderer ra(all), rb(body), rp(pace);
+  EXPECT_EQ(rb.frames(), r0.frames()) << "without the pace";
+  EXPECT_NEAR((rb.worldSkeleton(5)[Joint::Head] - r0.worldSkeleton(5)[Joint::Head]).norm(), 0.0f, 1e-5f)
+      << "neither turned nor moved";
+  EXPECT_EQ(rb.posedBody(0).shape.build, ra.posedBody(0).shape.build);
+  EXPECT_EQ(rp.frames(), ra.frames());
+  EXPECT_EQ(rp.posedBody(0).shape.build, r0.posedBody(0).shape.build);
+  EXPECT_NEAR(rp.worldSkeleton(0)[Joint::Torso].head<2>().norm(), ra.worldSkeleton(0)[Joint::Torso].head<2>().norm(), 0.11f)
+      << "the same distance drawn (the turn may move the body back once more to fit)";
+  SampleSpec none = all;
+  none.copy_changes = 0;
+  EXPECT_THROW(SampleRenderer{ none }, std::invalid_argument);
   EXPECT_GE(builds.size(), 3u) << "each copy has a body of its own";
   // The recording itself is rendered as before copies existed: from the original's own draws.
   EXPECT_EQ(r0.frames(), 2 * n15 - 1);

@@ -48,6 +48,16 @@ const std::vector<std::string>& iasLabActions();
  * with idle periods between them; repetition is the stream's number. Or, with segments_file, one
  * continuous skeleton file in the MSR format (skeleton_file) with its truth. action is "stream".
  */
+/** The changes a training copy of an MSR sample makes (SampleSpec::copy_changes). */
+enum CopyChange : unsigned
+{
+  kCopyBody = 1u,      ///< another body and clothes
+  kCopyPace = 2u,      ///< 0.8-1.2 times as fast
+  kCopyTurn = 4u,      ///< turned -30..30 degrees
+  kCopyDistance = 8u,  ///< placed 1.5-4.5 m away
+  kCopyAll = 15u
+};
+
 struct SampleSpec
 {
   /** "ias" (synthetic actors), "stream" (their streams), "msr" (MSR Action3D skeletons),
@@ -99,6 +109,10 @@ struct SampleSpec
    * back until the whole body is in view), each drawn from the spec. The name ends in "_c<k>".
    */
   int copy = 0;
+  /** Which of a training copy's changes are made (CopyChange bits; default all). With fewer, the
+   *  name ends in "_c<k>_" and a letter per change made (b, p, t, d); each change draws the same
+   *  value whichever others are made. */
+  unsigned copy_changes = kCopyAll;
 
   /**
    * @brief "p01_wave_1" / "a01_s01_e01" / "p01_stream_1" / "s01_msr_stream_1" (a continuous file:
