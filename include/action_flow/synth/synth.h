@@ -36,6 +36,16 @@ namespace synth
 /** @brief The 15 IAS-Lab actions in snake_case, alphabetical: check_watch ... wave. */
 const std::vector<std::string>& iasLabActions();
 
+/** The changes a training copy of an MSR sample makes (SampleSpec::copy_changes). */
+enum CopyChange : unsigned
+{
+  kCopyBody = 1u,      ///< another body and clothes
+  kCopyPace = 2u,      ///< 0.8-1.2 times as fast
+  kCopyTurn = 4u,      ///< turned -30..30 degrees
+  kCopyDistance = 8u,  ///< placed 1.5-4.5 m away
+  kCopyAll = 15u
+};
+
 /**
  * @brief One sample to render.
  *
@@ -48,16 +58,6 @@ const std::vector<std::string>& iasLabActions();
  * with idle periods between them; repetition is the stream's number. Or, with segments_file, one
  * continuous skeleton file in the MSR format (skeleton_file) with its truth. action is "stream".
  */
-/** The changes a training copy of an MSR sample makes (SampleSpec::copy_changes). */
-enum CopyChange : unsigned
-{
-  kCopyBody = 1u,      ///< another body and clothes
-  kCopyPace = 2u,      ///< 0.8-1.2 times as fast
-  kCopyTurn = 4u,      ///< turned -30..30 degrees
-  kCopyDistance = 8u,  ///< placed 1.5-4.5 m away
-  kCopyAll = 15u
-};
-
 struct SampleSpec
 {
   /** "ias" (synthetic actors), "stream" (their streams), "msr" (MSR Action3D skeletons),
