@@ -3,6 +3,7 @@
 #include "cli.h"
 #include "plot_script.h"
 #include "extraction.h"
+#include "sample_sources.h"
 #include "../eval/no_action.h"
 
 #include <action_flow/files.h>
@@ -168,7 +169,7 @@ OnlineSet iasSet(const Args& args, const std::vector<SampleRef>& samples, int st
  */
 OnlineSet msrSet(const Args& args, const std::vector<SampleRef>& samples, int streams, int actions, std::uint64_t seed)
 {
-  const std::vector<std::string> train = splitList(args.get("train-persons", "s01,s03,s05,s07,s09"));
+  const std::vector<std::string> train = trainPersons(args);
   OnlineSet out;
   std::vector<std::string> persons, trained;
   for (const auto& s : samples)

@@ -324,6 +324,11 @@ std::vector<SampleRef> selectSamples(const Args& args)
   return kept;
 }
 
+std::vector<std::string> trainPersons(const Args& args)
+{
+  return splitList(args.get("train-persons", kDefaultTrainPersons));
+}
+
 std::string cacheDir(const Args& args)
 {
   if (args.has("cache"))
@@ -408,7 +413,7 @@ std::vector<SampleRef> samplesFromSynth(const Args& args)
     throw UsageError("--copy-changes names no change");
   // Cross-subject: only the training subjects' samples train, so only theirs are copied.
   const std::vector<std::string> copied =
-      protocol == "cross-subject" ? splitList(args.get("train-persons", "s01,s03,s05,s07,s09")) : std::vector<std::string>{};
+      protocol == "cross-subject" ? trainPersons(args) : std::vector<std::string>{};
   std::vector<SampleRef> out;
   for (auto spec : specs)
   {

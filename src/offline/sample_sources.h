@@ -74,6 +74,10 @@ struct CrossViewSet
 CrossViewSet crossViewSamples(const Args& args);
 /** The samples the options name (--actions and --persons keep only those listed). @throws on a bad index or option, naming it. */
 std::vector<SampleRef> selectSamples(const Args& args);
+/** The default cross-subject training subjects: MSR Action3D's odd subjects, as the dataset's papers split it. */
+constexpr const char* kDefaultTrainPersons = "s01,s03,s05,s07,s09";
+/** The cross-subject (and online msr) training subjects: --train-persons, default kDefaultTrainPersons. */
+std::vector<std::string> trainPersons(const Args& args);
 /** The cache folder the options name (default ~/.ros/action_flow/cache). */
 std::string cacheDir(const Args& args);
 }  // namespace tools

@@ -41,8 +41,8 @@ Options options()
       .value("test-repetitions", "R", "cross-view: repetitions of each test person's actions (default 1)")
       .value("train-spread", "DEG", "cross-view: the training people face the camera +- DEG (default 15; 180 = seen "
                                     "from every side)")
-      .value("train-persons", "a,b,...", "cross-subject and online msr: the training people (default "
-                                         "s01,s03,s05,s07,s09); the others are tested")
+      .value("train-persons", "a,b,...", std::string("cross-subject and online msr: the training people (default ") +
+                                         kDefaultTrainPersons + "); the others are tested")
       .value("variants", "v1,v2,...",
              "of posture_flow, posture_flow_no_posture, posture_flow_choose_posture, posture_flow_no_geometry, posture_flow_sums, "
              "posture_flow_bins, posture_flow_single_level, posture_flow_no_pyramid, posture_flow_means_only, posture_flow_no_fourier, posture_flow_nn, "
@@ -109,13 +109,17 @@ SampleFrames jointFrames(const std::string& skeleton_file)
 Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector<Fold>& folds,
                         std::vector<double>& fold_accuracy)
 {
+  // A row per original sample; a training copy (a rendering of the same skeleton file) has the
+  // same joints, so it has no row and never trains here.
   std::vector<std::string> labels, persons;
-  Eigen::MatrixXf x;
+  std::vector<Eigen::Index> row_of(samples.size(), -1);
+  std::vector<Eigen::VectorXf> rows;
   for (std::size_t i = 0; i < samples.size(); ++i)
   {
     if (samples[i].skeleton_file.empty())
       throw std::invalid_argument("the joints baseline needs MSR Action3D samples (--synth msr)");
-    // x keeps a row per sample; a training copy's (the same skeleton file) is never used below.
+    if (samples[i].copy != 0)
+      continue;
     const SampleFrames f = jointFrames(samples[i].skeleton_file);
     std::vector<Eigen::VectorXf> frames;
     for (Eigen::Index r = 0; r < f.descriptors.rows(); ++r)
@@ -123,20 +127,21 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
     // Means and maxima of coordinates and speeds as they are (no power normalisation): the baseline's
     // recipe with the default recognizer's pooling, less its Fourier magnitudes, which did not help
     // the joints on MSR Action3D's training subjects (docs/evaluation.md).
-    const Eigen::VectorXf d = temporalPyramid(frames, f.stamps, 3, false, Pooling{ true, 0 });
-    if (i == 0)
-      x.resize(static_cast<Eigen::Index>(samples.size()), d.size());
-    x.row(static_cast<Eigen::Index>(i)) = d.transpose();
+    row_of[i] = static_cast<Eigen::Index>(rows.size());
+    rows.push_back(temporalPyramid(frames, f.stamps, 3, false, Pooling{ true, 0 }));
     labels.push_back(samples[i].action);
     persons.push_back(samples[i].person);
   }
+  Eigen::MatrixXf x(static_cast<Eigen::Index>(rows.size()), rows.empty() ? 0 : rows[0].size());
+  for (std::size_t r = 0; r < rows.size(); ++r)
+    x.row(static_cast<Eigen::Index>(r)) = rows[r].transpose();
   Confusion all(uniqueSorted(labels));
   for (const Fold& fold : folds)
   {
     std::vector<Eigen::Index> train;
-    for (std::size_t r : fold.train)
-      if (samples[r].copy == 0)  // a rendering's copy has the same joints
-        train.push_back(static_cast<Eigen::Index>(r));
+    for (std::size_t i : fold.train)
+      if (row_of[i] >= 0)
+        train.push_back(row_of[i]);
     std::vector<std::string> train_labels, train_persons;
     for (auto r : train)
     {
@@ -149,9 +154,9 @@ Confusion jointBaseline(const std::vector<SampleRef>& samples, const std::vector
     Confusion mine(all.labels);
     for (std::size_t t : fold.test)
     {
-      const Classification answer = c.classify(x.row(static_cast<Eigen::Index>(t)).transpose());
-      all.add(labels[t], answer.label, answer.confidence);
-      mine.add(labels[t], answer.label);
+      const Classification answer = c.classify(x.row(row_of[t]).transpose());
+      all.add(labels[row_of[t]], answer.label, answer.confidence);
+      mine.add(labels[row_of[t]], answer.label);
     }
     fold_accuracy.push_back(mine.accuracy());
   }
@@ -308,7 +313,7 @@ std::vector<Fold> protocolFolds(const std::string& protocol, const std::vector<S
   if (protocol == "lopo")
     folds = leaveOnePersonOut(persons);
   else if (protocol == "cross-subject")
-    folds = { crossSubject(persons, splitList(args.get("train-persons", "s01,s03,s05,s07,s09"))) };
+    folds = { crossSubject(persons, trainPersons(args)) };
   else if (protocol == "cross-view")
     folds = crossViewFolds(cross_view);
   else
