@@ -22,6 +22,27 @@
 
 namespace action_flow
 {
+/**
+ * @brief Rows to train linear classifiers on many subsets of (model selection): the rows and
+ *        their Gram matrix, computed once. LinearClassifier::train on a subset of them solves the
+ *        same problem as on those rows alone, in their span, from the Gram matrix: the long rows
+ *        are read again only to write the final weights.
+ */
+class GramRows
+{
+public:
+  /** @throws std::invalid_argument on non-finite values */
+  explicit GramRows(Eigen::MatrixXf x);
+  Eigen::Index rows() const { return x_.rows(); }
+  const Eigen::MatrixXf& x() const { return x_; }
+  /** The inner products of the rows less their mean (subsets centre on their own means). */
+  const Eigen::MatrixXd& gram() const { return gram_; }
+
+private:
+  Eigen::MatrixXf x_;
+  Eigen::MatrixXd gram_;
+};
+
 class LinearClassifier
 {
 public:
@@ -43,6 +64,18 @@ public:
   /** @brief The same for each of @p cs, sharing the standardisation and the span (for model selection). */
   static std::vector<LinearClassifier> train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
                                              const std::vector<double>& cs, bool in_span = true);
+  /** @brief The same on rows @p rows of @p g (one label each), in their span. */
+  static std::vector<LinearClassifier> train(const GramRows& g, const std::vector<Eigen::Index>& rows,
+                                             const std::vector<std::string>& labels, const std::vector<double>& cs);
+  /**
+   * @brief The scores (queries x classes, one matrix per C) that train(g, rows, labels, cs) would
+   *        give rows @p queries of @p g, without writing its weights (held-out answers for model
+   *        selection). @p classes receives the labels in the scores' column order.
+   */
+  static std::vector<Eigen::MatrixXf> heldOutScores(const GramRows& g, const std::vector<Eigen::Index>& rows,
+                                                    const std::vector<std::string>& labels,
+                                                    const std::vector<Eigen::Index>& queries,
+                                                    const std::vector<double>& cs, std::vector<std::string>& classes);
 
   /**
    * @brief The most probable label. Classification::confidence is its probability, margin the

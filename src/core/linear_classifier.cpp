@@ -46,24 +46,6 @@ LinearClassifier LinearClassifier::train(const Eigen::MatrixXf& x, const std::ve
 
 namespace
 {
-// The rows in the coordinates of their own span: with X = Z V' (V orthonormal, from the
-// eigenvectors of X X'), the weights w = V u give the same scores as u on Z and the same norm, and
-// weights outside the span only add to the norm; so with fewer rows than columns (a few hundred
-// sequences of a few thousand values) liblinear can work on n columns, not d, exactly.
-// @p basis is V (empty when the rows are used as they are).
-Eigen::MatrixXd inSpan(const Eigen::MatrixXd& xs, Eigen::MatrixXd& basis)
-{
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(xs * xs.transpose());
-  const double top = eig.eigenvalues().maxCoeff();
-  std::vector<Eigen::Index> keep;
-  for (Eigen::Index i = 0; i < xs.rows(); ++i)
-    if (eig.eigenvalues()[i] > 1e-10 * top && top > 0.0)
-      keep.push_back(i);
-  const Eigen::VectorXd root = eig.eigenvalues()(keep).cwiseSqrt();
-  basis = xs.transpose() * eig.eigenvectors()(Eigen::all, keep) * root.cwiseInverse().asDiagonal();
-  return eig.eigenvectors()(Eigen::all, keep) * root.asDiagonal();
-}
-
 // liblinear's problem over the rows of @p z: every value (dense), 1-based feature indices, a
 // bias feature, and a terminator per row. The vectors own the memory the problem points into.
 struct LiblinearProblem
@@ -96,6 +78,8 @@ struct LiblinearProblem
 };
 
 // One liblinear solve at @p c: the weights per class (in the span's coordinates) and the biases.
+// Each solve starts from 0: started from the previous C's solution (liblinear's init_sol) they
+// stop elsewhere within the tolerance, and the cross-validation chose another C on MSR Action3D.
 void solve(problem& prob, double c, std::size_t classes, Eigen::MatrixXd& u, Eigen::VectorXf& b)
 {
   parameter param{};
@@ -124,6 +108,157 @@ void solve(problem& prob, double c, std::size_t classes, Eigen::MatrixXd& u, Eig
 }
 }  // namespace
 
+namespace
+{
+void checkCs(const std::vector<double>& cs)
+{
+  for (double c : cs)
+    if (!(c > 0.0) || !std::isfinite(c))
+      throw std::invalid_argument("LinearClassifier::train: C must be positive");
+  if (cs.empty())
+    throw std::invalid_argument("LinearClassifier::train: no C given");
+}
+
+// The sorted labels, and each row's index into them; @throws with fewer than 2 labels.
+std::vector<std::string> classesOf(const std::vector<std::string>& labels, std::vector<int>& class_of_row)
+{
+  std::vector<std::string> classes = labels;
+  std::sort(classes.begin(), classes.end());
+  classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
+  if (classes.size() < 2)
+    throw std::invalid_argument("LinearClassifier::train: needs at least 2 labels");
+  class_of_row.clear();
+  for (const auto& l : labels)
+    class_of_row.push_back(static_cast<int>(std::lower_bound(classes.begin(), classes.end(), l) - classes.begin()));
+  return classes;
+}
+
+// A fit on a subset T of a GramRows' rows, in the coordinates of the centred rows' span. With the
+// rows centred on T's mean and scaled by s, X = Z V' (V orthonormal): from the centred Gram matrix
+// s^2 Gc = E L E', Z = E L^(1/2) and V = X' E L^(-1/2). Weights w = V u give the same scores as u
+// on Z and the same norm, and weights outside the span only add to the norm, so liblinear works on
+// n columns instead of d, exactly. A row t's coordinates are L^(-1/2) E' k_t, with k_t its centred,
+// scaled inner products with T's rows, all read off the Gram matrix.
+struct SpanFit
+{
+  std::vector<std::string> classes;
+  Eigen::VectorXd row_mean;  // per row of T: its mean (shifted) inner product with T's rows
+  double all_mean = 0.0;     // the mean of those
+  double scale = 1.0;        // 1 / the root mean square of T's centred values
+  Eigen::MatrixXd project;   // E L^(-1/2): a row's centred, scaled inner products -> its coordinates
+  std::vector<Eigen::MatrixXd> u;  // per C: classes x span
+  std::vector<Eigen::VectorXf> b;  // per C: biases
+
+  SpanFit(const GramRows& g, const std::vector<Eigen::Index>& rows, const std::vector<std::string>& labels,
+          const std::vector<double>& cs)
+  {
+    if (rows.empty() || rows.size() != labels.size())
+      throw std::invalid_argument("LinearClassifier::train: needs one label per row, and at least one row");
+    for (Eigen::Index r : rows)
+      if (r < 0 || r >= g.rows())
+        throw std::invalid_argument("LinearClassifier::train: row " + std::to_string(r) + " outside the rows given");
+    checkCs(cs);
+    std::vector<int> class_of_row;
+    classes = classesOf(labels, class_of_row);
+    const Eigen::Index n = static_cast<Eigen::Index>(rows.size()), d = g.x().cols();
+    const Eigen::MatrixXd gt = g.gram()(rows, rows);
+    row_mean = gt.rowwise().mean();
+    all_mean = row_mean.mean();
+    Eigen::MatrixXd centred = gt;
+    centred.colwise() -= row_mean;
+    centred.rowwise() -= row_mean.transpose();
+    centred.array() += all_mean;
+    // Centre every column and divide all by one spread (the root mean square of the centred values).
+    // Not a spread per column: that would blow the many nearly constant columns (cells the body
+    // rarely reaches) up to the weight of the informative ones.
+    const double rms = std::sqrt(std::max(0.0, centred.trace()) / static_cast<double>(n * d));
+    scale = rms > 1e-12 ? 1.0 / rms : 1.0;
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(centred * (scale * scale));
+    const double top = eig.eigenvalues().maxCoeff();
+    std::vector<Eigen::Index> keep;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (eig.eigenvalues()[i] > 1e-10 * top && top > 0.0)
+        keep.push_back(i);
+    const Eigen::VectorXd root = eig.eigenvalues()(keep).cwiseSqrt();
+    project = eig.eigenvectors()(Eigen::all, keep) * root.cwiseInverse().asDiagonal();
+    LiblinearProblem problem(eig.eigenvectors()(Eigen::all, keep) * root.asDiagonal(), class_of_row);
+    for (double c : cs)
+    {
+      u.emplace_back();
+      b.emplace_back();
+      solve(problem.prob, c, classes.size(), u.back(), b.back());
+    }
+  }
+
+  // Each C's scores (rows x classes) of rows @p queries of @p g.
+  std::vector<Eigen::MatrixXf> scores(const GramRows& g, const std::vector<Eigen::Index>& rows,
+                                      const std::vector<Eigen::Index>& queries) const
+  {
+    Eigen::MatrixXd k = g.gram()(rows, queries);
+    const Eigen::RowVectorXd query_mean = k.colwise().mean();
+    k.colwise() -= row_mean;
+    k.rowwise() -= query_mean;
+    k.array() += all_mean;
+    const Eigen::MatrixXd z = project.transpose() * (k * (scale * scale));
+    std::vector<Eigen::MatrixXf> out;
+    for (std::size_t i = 0; i < u.size(); ++i)
+      out.push_back(((u[i] * z).colwise() + b[i].cast<double>()).transpose().cast<float>());
+    return out;
+  }
+};
+}  // namespace
+
+GramRows::GramRows(Eigen::MatrixXf x) : x_(std::move(x))
+{
+  if (!x_.allFinite())
+    throw std::invalid_argument("LinearClassifier::train: non-finite training values");
+  // Less the rows' mean (the Gram matrix of any shift gives the same centred products; this one
+  // keeps them well conditioned), in column blocks: the double copy of all rows at once can take
+  // hundreds of megabytes.
+  const Eigen::RowVectorXf mean = x_.colwise().mean();
+  const Eigen::Index n = x_.rows(), block = 2048;
+  gram_ = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index c0 = 0; c0 < x_.cols(); c0 += block)
+  {
+    const Eigen::Index w = std::min(block, x_.cols() - c0);
+    const Eigen::MatrixXd part = (x_.middleCols(c0, w).rowwise() - mean.segment(c0, w)).cast<double>();
+    gram_.selfadjointView<Eigen::Lower>().rankUpdate(part);
+  }
+  gram_ = gram_.selfadjointView<Eigen::Lower>();
+}
+
+std::vector<LinearClassifier> LinearClassifier::train(const GramRows& g, const std::vector<Eigen::Index>& rows,
+                                                      const std::vector<std::string>& labels,
+                                                      const std::vector<double>& cs)
+{
+  const SpanFit fit(g, rows, labels, cs);
+  // w = V u = s X' E L^(-1/2) u: the rows, centred on their mean, weighted by a = u L^(-1/2) E'.
+  const Eigen::VectorXf mean = g.x()(rows, Eigen::all).colwise().mean().transpose();
+  const Eigen::MatrixXf centred = g.x()(rows, Eigen::all).rowwise() - mean.transpose();
+  const Eigen::VectorXf scale = Eigen::VectorXf::Constant(g.x().cols(), static_cast<float>(fit.scale));
+  std::vector<LinearClassifier> out;
+  for (std::size_t i = 0; i < cs.size(); ++i)
+  {
+    const Eigen::MatrixXf a = (fit.u[i] * fit.project.transpose() * fit.scale).cast<float>();
+    out.push_back(LinearClassifier(fit.classes, a * centred, fit.b[i], mean, scale));
+  }
+  return out;
+}
+
+std::vector<Eigen::MatrixXf> LinearClassifier::heldOutScores(const GramRows& g, const std::vector<Eigen::Index>& rows,
+                                                             const std::vector<std::string>& labels,
+                                                             const std::vector<Eigen::Index>& queries,
+                                                             const std::vector<double>& cs,
+                                                             std::vector<std::string>& classes)
+{
+  for (Eigen::Index q : queries)
+    if (q < 0 || q >= g.rows())
+      throw std::invalid_argument("LinearClassifier::heldOutScores: row " + std::to_string(q) + " outside the rows given");
+  const SpanFit fit(g, rows, labels, cs);
+  classes = fit.classes;
+  return fit.scores(g, rows, queries);
+}
+
 std::vector<LinearClassifier> LinearClassifier::train(const Eigen::MatrixXf& x, const std::vector<std::string>& labels,
                                                       const std::vector<double>& cs, bool in_span)
 {
@@ -131,39 +266,30 @@ std::vector<LinearClassifier> LinearClassifier::train(const Eigen::MatrixXf& x, 
     throw std::invalid_argument("LinearClassifier::train: needs one label per row, and at least one row");
   if (!x.allFinite())
     throw std::invalid_argument("LinearClassifier::train: non-finite training values");
-  for (double c : cs)
-    if (!(c > 0.0) || !std::isfinite(c))
-      throw std::invalid_argument("LinearClassifier::train: C must be positive");
-  if (cs.empty())
-    throw std::invalid_argument("LinearClassifier::train: no C given");
-  std::vector<std::string> classes = labels;
-  std::sort(classes.begin(), classes.end());
-  classes.erase(std::unique(classes.begin(), classes.end()), classes.end());
-  if (classes.size() < 2)
-    throw std::invalid_argument("LinearClassifier::train: needs at least 2 labels");
+  checkCs(cs);
   std::vector<int> class_of_row;
-  for (const auto& l : labels)
-    class_of_row.push_back(static_cast<int>(std::lower_bound(classes.begin(), classes.end(), l) - classes.begin()));
-
-  // Centre every column and divide all by one spread (the root mean square of the centred values).
-  // Not a spread per column: that would blow the many nearly constant columns (cells the body
-  // rarely reaches) up to the weight of the informative ones.
+  const std::vector<std::string> classes = classesOf(labels, class_of_row);
   const Eigen::Index n = x.rows(), d = x.cols();
+  if (in_span && n < d)
+  {
+    std::vector<Eigen::Index> all(static_cast<std::size_t>(n));
+    for (Eigen::Index i = 0; i < n; ++i)
+      all[static_cast<std::size_t>(i)] = i;
+    return train(GramRows(x), all, labels, cs);
+  }
+  // All columns as they are, standardised as SpanFit does.
   const Eigen::VectorXf mean = x.colwise().mean().transpose();
   const double rms = std::sqrt((x.rowwise() - mean.transpose()).squaredNorm() / static_cast<double>(n * d));
   const Eigen::VectorXf scale = Eigen::VectorXf::Constant(d, rms > 1e-12 ? static_cast<float>(1.0 / rms) : 1.0f);
   const Eigen::MatrixXd xs = ((x.rowwise() - mean.transpose()) * scale[0]).cast<double>();
-
-  Eigen::MatrixXd basis;  // w = basis * u; empty: the columns as they are
-  LiblinearProblem problem(in_span && n < d ? inSpan(xs, basis) : xs, class_of_row);
+  LiblinearProblem problem(xs, class_of_row);
   std::vector<LinearClassifier> out;
   for (double c : cs)
   {
     Eigen::MatrixXd u;
     Eigen::VectorXf b;
     solve(problem.prob, c, classes.size(), u, b);
-    const Eigen::MatrixXf w = (basis.size() ? Eigen::MatrixXd(u * basis.transpose()) : u).cast<float>();
-    out.push_back(LinearClassifier(classes, w, b, mean, scale));
+    out.push_back(LinearClassifier(classes, u.cast<float>(), b, mean, scale));
   }
   return out;
 }

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <sys/stat.h>
@@ -367,53 +368,56 @@ struct HeldOutAnswers
 };
 
 // The answers on the originals of the people in @p held_out, trained on everyone else's rows (and
-// their mirrored copies, when given), for each of @p cs; empty when the fold cannot be used.
-std::vector<HeldOutAnswers> foldAnswers(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
-                                   const std::vector<std::string>& labels, const std::vector<std::string>& persons,
-                                   const std::vector<std::string>& held_out, const std::vector<double>& cs,
-                                   const std::vector<bool>* queries)
+// their mirrored copies, rows n.. of @p g, when @p mirror), for each of @p cs; empty when the fold
+// cannot be used. Rows 0..n-1 of @p g are the originals, labelled and owned as @p labels and @p persons.
+std::vector<HeldOutAnswers> foldAnswers(const GramRows& g, bool mirror, const std::vector<std::string>& labels,
+                                        const std::vector<std::string>& persons,
+                                        const std::vector<std::string>& held_out, const std::vector<double>& cs,
+                                        const std::vector<bool>* queries)
 {
+  const Eigen::Index n = static_cast<Eigen::Index>(labels.size());
   std::vector<Eigen::Index> train, test;
-  for (std::size_t i = 0; i < labels.size(); ++i)
+  for (Eigen::Index i = 0; i < n; ++i)
     if (std::find(held_out.begin(), held_out.end(), persons[i]) == held_out.end())
-      train.push_back(static_cast<Eigen::Index>(i));
+      train.push_back(i);
     else if (!queries || (*queries)[i])
-      test.push_back(static_cast<Eigen::Index>(i));
+      test.push_back(i);
   std::vector<std::string> train_labels;
   for (Eigen::Index i : train)
     train_labels.push_back(labels[i]);
   if (test.empty() || uniqueSorted(train_labels).size() < 2)
     return {};
-  Eigen::MatrixXf xt = x(train, Eigen::all);
-  if (mirrored)
+  if (mirror)
   {
-    xt.conservativeResize(2 * xt.rows(), Eigen::NoChange);
-    xt.bottomRows(train.size()) = (*mirrored)(train, Eigen::all);
-    // Not insert(end, begin, end): on growing, the vector moves its strings out before copying the
-    // range, and the copies' labels came out empty (a junk class that made mirroring look bad).
-    const std::vector<std::string> originals = train_labels;
-    train_labels.insert(train_labels.end(), originals.begin(), originals.end());
+    const std::size_t originals = train.size();
+    for (std::size_t i = 0; i < originals; ++i)
+    {
+      train.push_back(train[i] + n);
+      train_labels.push_back(train_labels[i]);
+    }
   }
   // Scores count for the temperature only from classifiers that know every label (all of the
   // same length).
   const std::size_t all_labels = uniqueSorted(labels).size();
+  std::vector<std::string> known;
+  const std::vector<Eigen::MatrixXf> scores = LinearClassifier::heldOutScores(g, train, train_labels, test, cs, known);
   std::vector<HeldOutAnswers> out;
-  for (const LinearClassifier& classifier : LinearClassifier::train(xt, train_labels, cs))
+  for (const Eigen::MatrixXf& s : scores)
   {
     HeldOutAnswers a;
-    const std::vector<std::string>& known = classifier.classes();
-    for (Eigen::Index i : test)
+    for (std::size_t q = 0; q < test.size(); ++q)
     {
       // The label classify() gives: every probability it offers is monotonic in the score.
-      Eigen::VectorXf scores = classifier.scores(x.row(i).transpose());
+      Eigen::VectorXf row = s.row(static_cast<Eigen::Index>(q)).transpose();
+      const std::string& truth = labels[test[q]];
       Eigen::Index best = 0;
-      scores.maxCoeff(&best);
-      a.right += known[static_cast<std::size_t>(best)] == labels[i];
+      row.maxCoeff(&best);
+      a.right += known[static_cast<std::size_t>(best)] == truth;
       ++a.total;
-      const auto at = std::lower_bound(known.begin(), known.end(), labels[i]);
-      if (known.size() == all_labels && at != known.end() && *at == labels[i])
+      const auto at = std::lower_bound(known.begin(), known.end(), truth);
+      if (known.size() == all_labels && at != known.end() && *at == truth)
       {
-        a.scores.push_back(std::move(scores));
+        a.scores.push_back(std::move(row));
         a.truth.push_back(static_cast<int>(at - known.begin()));
       }
     }
@@ -421,21 +425,30 @@ std::vector<HeldOutAnswers> foldAnswers(const Eigen::MatrixXf& x, const Eigen::M
   }
   return out;
 }
-}  // namespace
 
-const std::vector<double>& linearCandidates()
+// The rows chooseLinear works on: the originals, then (when given) their mirrored copies.
+GramRows stacked(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored)
 {
-  static const std::vector<double> c = { 0.001, 0.01, 0.1, 1.0 };
-  return c;
+  if (!mirrored)
+    return GramRows(x);
+  if (mirrored->rows() != x.rows() || mirrored->cols() != x.cols())
+    throw std::invalid_argument("chooseLinear: the mirrored rows must match the rows");
+  Eigen::MatrixXf both(2 * x.rows(), x.cols());
+  both << x, *mirrored;
+  return GramRows(std::move(both));
 }
 
-LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
-                          const std::vector<std::string>& labels, const std::vector<std::string>& persons,
-                          const std::vector<bool>& mirror_options, const std::vector<double>& c_options,
-                          int inner_folds, const std::vector<bool>* queries)
+// chooseLinear on rows already stacked: @p g's first labels.size() rows are the originals, and
+// with @p has_mirrored the next as many are their mirrored copies.
+LinearChoice chooseOnRows(const GramRows& g, bool has_mirrored, const std::vector<std::string>& labels,
+                          const std::vector<std::string>& persons, const std::vector<bool>& mirror_options,
+                          const std::vector<double>& c_options, int inner_folds, const std::vector<bool>* queries)
 {
   if (queries && queries->size() != labels.size())
     throw std::invalid_argument("chooseLinear: one query flag per row is needed");
+  if (persons.size() != labels.size() ||
+      g.rows() != static_cast<Eigen::Index>(labels.size()) * (has_mirrored ? 2 : 1))
+    throw std::invalid_argument("chooseLinear: one label and one person per row are needed");
   const std::vector<std::string> people = uniqueSorted(persons);
   const int k = std::min<int>(inner_folds, static_cast<int>(people.size()));
   LinearChoice best{ c_options.front(), mirror_options.front(), -1.0 };
@@ -444,7 +457,7 @@ LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirro
   HeldOutAnswers best_answers;
   for (bool m : mirror_options)
   {
-    if (m && !mirrored)
+    if (m && !has_mirrored)
       throw std::invalid_argument("chooseLinear: mirrored copies are an option but none were given");
     std::vector<double> sum(c_options.size(), 0.0);
     std::vector<HeldOutAnswers> answers(c_options.size());
@@ -454,8 +467,7 @@ LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirro
       std::vector<std::string> held_out;
       for (std::size_t p = f; p < people.size(); p += k)
         held_out.push_back(people[p]);
-      const std::vector<HeldOutAnswers> a =
-          foldAnswers(x, m ? mirrored : nullptr, labels, persons, held_out, c_options, queries);
+      const std::vector<HeldOutAnswers> a = foldAnswers(g, m, labels, persons, held_out, c_options, queries);
       if (a.empty())
         continue;
       for (std::size_t i = 0; i < a.size(); ++i)
@@ -479,6 +491,22 @@ LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirro
   // the final one; their temperature is what the final one is calibrated with.
   best.temperature = best_answers.temperature();
   return best;
+}
+}  // namespace
+
+const std::vector<double>& linearCandidates()
+{
+  static const std::vector<double> c = { 0.001, 0.01, 0.1, 1.0 };
+  return c;
+}
+
+LinearChoice chooseLinear(const Eigen::MatrixXf& x, const Eigen::MatrixXf* mirrored,
+                          const std::vector<std::string>& labels, const std::vector<std::string>& persons,
+                          const std::vector<bool>& mirror_options, const std::vector<double>& c_options,
+                          int inner_folds, const std::vector<bool>* queries)
+{
+  return chooseOnRows(stacked(x, mirrored), mirrored != nullptr, labels, persons, mirror_options, c_options,
+                      inner_folds, queries);
 }
 
 Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& model)
@@ -549,11 +577,12 @@ struct TrainingRows
 
 // posture_flow with the linear classifier: C, the mirrored copies, the flow encoding and posture,
 // whichever are not fixed, chosen by cross-validation inside the training people (all that @p t
-// holds) and written into @p pyramid; @p x and @p mirrored receive the rows under the choice.
-// Returns the temperature fitted on the chosen setting's held-out answers (0 with fewer than 2
-// people). Ties keep the earlier option: direction bins before sums, posture before none.
-double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, PyramidParams& pyramid, Eigen::MatrixXf& x,
-                          Eigen::MatrixXf& mirrored)
+// holds) and written into @p pyramid; @p rows receives the rows under the choice (the originals,
+// then their mirrored copies when mirroring was an option). Returns the temperature fitted on the
+// chosen setting's held-out answers (0 with fewer than 2 people). Ties keep the earlier option:
+// direction bins before sums, posture before none.
+double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, PyramidParams& pyramid,
+                            std::unique_ptr<GramRows>& rows)
 {
   std::vector<bool> mirror_options;
   if (pyramid.mirror != MirrorMode::On)
@@ -576,15 +605,15 @@ double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, Pyr
     {
       Eigen::MatrixXf xe, me;
       t.describe(model, e, p, mirror_options.back(), xe, me);
+      auto g = std::make_unique<GramRows>(stacked(xe, me.size() ? &me : nullptr));
       const LinearChoice choice =
-          chooseLinear(xe, me.size() ? &me : nullptr, t.labels, t.persons, mirror_options, c_options, 3, &t.queries);
-      if (x.size() == 0 || choice.score > best.score + 1e-9)
+          chooseOnRows(*g, me.size() > 0, t.labels, t.persons, mirror_options, c_options, 3, &t.queries);
+      if (!rows || choice.score > best.score + 1e-9)
       {
         best = choice;
         pyramid.flow = e;
         pyramid.posture = p;
-        x = std::move(xe);
-        mirrored = std::move(me);
+        rows = std::move(g);
       }
     }
   pyramid.c = best.c;
@@ -607,11 +636,28 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
   const bool posture_flow = params.recognizer == Recognizer::PostureFlow;
   const bool linear = posture_flow && pyramid.classifier == PyramidClassifier::Linear;
   Eigen::MatrixXf x, mirrored;
-  double temperature = 0.0;
+  if (linear)
+  {
+    // The final classifier trains on the rows the choice was made on, sharing their Gram matrix.
+    std::unique_ptr<GramRows> g;
+    const double temperature = chooseLinearSettings(t, model, pyramid, g);
+    const Eigen::Index n = static_cast<Eigen::Index>(t.labels.size());
+    const Eigen::Index used = pyramid.mirror == MirrorMode::On ? 2 * n : n;
+    std::vector<Eigen::Index> all(static_cast<std::size_t>(used));
+    for (Eigen::Index i = 0; i < used; ++i)
+      all[static_cast<std::size_t>(i)] = i;
+    model.descriptors = g->x().topRows(used);
+    model.labels = model.persons = {};
+    for (Eigen::Index i = 0; i < used; ++i)
+    {
+      model.labels.push_back(t.labels[static_cast<std::size_t>(i % n)]);
+      model.persons.push_back(t.persons[static_cast<std::size_t>(i % n)]);
+    }
+    model.linear = LinearClassifier::train(*g, all, model.labels, { pyramid.c }).front().calibrated(temperature);
+    return model;
+  }
   if (!posture_flow)
     t.describe(model, FlowEncoding::Bins, PostureMode::On, false, x, mirrored);
-  else if (linear)
-    temperature = chooseLinearSettings(t, model, pyramid, x, mirrored);
   else
   {
     // 1-NN has nothing to fit: what is not fixed takes the fuller option.
@@ -633,8 +679,6 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
     model.labels.insert(model.labels.end(), t.labels.begin(), t.labels.end());
     model.persons.insert(model.persons.end(), t.persons.begin(), t.persons.end());
   }
-  if (linear)
-    model.linear = LinearClassifier::train(model.descriptors, model.labels, pyramid.c).calibrated(temperature);
   return model;
 }
 

@@ -358,6 +358,58 @@ TEST(LinearClassifier, SolvingInTheRowsSpanGivesTheFullSolution)
     EXPECT_LT((span.probabilities(x.row(i).transpose()) - full.probabilities(x.row(i).transpose())).norm(), 0.01f);
 }
 
+// Model selection trains on many subsets of one set of rows through their Gram matrix: a subset
+// must give the classifier its rows alone give (its own mean and spread, not the whole set's), and
+// the held-out scores must be that classifier's scores.
+TEST(LinearClassifier, ASubsetOfGramRowsTrainsAsItsRowsAlone)
+{
+  std::mt19937 rng(7);
+  std::normal_distribution<float> noise(0.0f, 1.0f);
+  Eigen::MatrixXf x(40, 150);
+  std::vector<std::string> labels;
+  for (int i = 0; i < 40; ++i)
+  {
+    for (int j = 0; j < 150; ++j)  // the later rows shifted and spread wider: another mean and spread
+      x(i, j) = (i >= 20 ? 3.0f : 1.0f) * noise(rng) + (j == i % 4 ? 2.5f : 0.0f) + (i >= 20 ? 5.0f : 0.0f);
+    labels.push_back("class" + std::to_string(i % 4));
+  }
+  const GramRows g(x);
+  std::vector<Eigen::Index> rows, queries;
+  std::vector<std::string> row_labels;
+  for (Eigen::Index i = 0; i < 40; ++i)
+    if (i % 5 == 0)
+      queries.push_back(i);
+    else
+    {
+      rows.push_back(i);
+      row_labels.push_back(labels[static_cast<std::size_t>(i)]);
+    }
+  const std::vector<double> cs = { 0.01, 1.0 };
+  const std::vector<LinearClassifier> alone = LinearClassifier::train(x(rows, Eigen::all), row_labels, cs, false);
+  const std::vector<LinearClassifier> shared = LinearClassifier::train(g, rows, row_labels, cs);
+  std::vector<std::string> classes;
+  const std::vector<Eigen::MatrixXf> held_out = LinearClassifier::heldOutScores(g, rows, row_labels, queries, cs, classes);
+  ASSERT_EQ(shared.size(), 2u);
+  ASSERT_EQ(held_out.size(), 2u);
+  EXPECT_EQ(classes, alone[0].classes());
+  for (std::size_t c = 0; c < cs.size(); ++c)
+  {
+    EXPECT_LT((shared[c].mean() - alone[c].mean()).norm(), 1e-4f * alone[c].mean().norm());
+    EXPECT_NEAR(shared[c].scale()[0], alone[c].scale()[0], 1e-4f * alone[c].scale()[0]);
+    EXPECT_LT((shared[c].weights() - alone[c].weights()).norm(), 0.02f * alone[c].weights().norm());
+    ASSERT_EQ(held_out[c].rows(), static_cast<Eigen::Index>(queries.size()));
+    for (std::size_t q = 0; q < queries.size(); ++q)
+    {
+      const Eigen::VectorXf query = x.row(queries[q]).transpose();
+      EXPECT_LT((held_out[c].row(static_cast<Eigen::Index>(q)).transpose() - shared[c].scores(query)).norm(),
+                1e-3f * (1.0f + shared[c].scores(query).norm()));
+      EXPECT_LT((shared[c].scores(query) - alone[c].scores(query)).norm(), 0.05f * (1.0f + alone[c].scores(query).norm()));
+    }
+  }
+  EXPECT_THROW(LinearClassifier::train(g, { 0, 40 }, { "a", "b" }, cs), std::invalid_argument);
+  EXPECT_THROW(LinearClassifier::heldOutScores(g, rows, row_labels, { -1 }, cs, classes), std::invalid_argument);
+}
+
 // A hand-made classifier whose scores are the query itself: known probabilities.
 TEST(LinearClassifier, CalibratedProbabilitiesAreTheSoftmaxOfScoresOverTheTemperature)
 {
