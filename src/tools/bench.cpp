@@ -446,6 +446,31 @@ void benchPostureFlowClassification(const Options& o, bool fourier)
   const double t_span = w.lap();
   LinearClassifier::train(model.descriptors, model.labels, model.params.pyramid.c, false);
   const double t_full = w.lap();
+  // Model selection as trainModel runs it (chooseLinear: 3 groups of people held out in turn, each
+  // value of C), beside the same held-out classifiers each trained on its own rows.
+  std::vector<std::string> persons;
+  for (std::size_t i = 0; i < train.size(); ++i)
+    persons.push_back("p" + std::to_string(i % 6));
+  for (int f = 0; f < 3; ++f)
+  {
+    std::vector<Eigen::Index> rows, held_out;
+    std::vector<std::string> labels;
+    for (std::size_t i = 0; i < train.size(); ++i)
+      if (i % 6 % 3 == static_cast<std::size_t>(f))
+        held_out.push_back(static_cast<Eigen::Index>(i));
+      else
+      {
+        rows.push_back(static_cast<Eigen::Index>(i));
+        labels.push_back(model.labels[i]);
+      }
+    for (const LinearClassifier& c :
+         LinearClassifier::train(Eigen::MatrixXf(model.descriptors(rows, Eigen::all)), labels, linearCandidates()))
+      for (Eigen::Index q : held_out)
+        c.scores(model.descriptors.row(q).transpose());
+  }
+  const double t_subsets = w.lap();
+  chooseLinear(model.descriptors, nullptr, model.labels, persons, { false }, linearCandidates());
+  const double t_gram = w.lap();
   const SequenceClassifier classifier = model.classifier();
   std::printf("\n### Classification, posture_flow (%s): %zu training sequences of %d actions, %zu queries, "
               "generated; %ld values per sequence\n",
@@ -455,6 +480,9 @@ void benchPostureFlowClassification(const Options& o, bool fourier)
   std::printf("sequence descriptors %.2f s; training the linear classifier: %.2f s in the sequences' span, %.2f s "
               "over all values (%.1fx)\n",
               t_describe, t_span, t_full, t_full / std::max(1e-9, t_span));
+  std::printf("model selection (3 groups of 6 people held out in turn, %zu values of C): %.2f s with each group's "
+              "classifiers trained on its own rows, %.2f s on one Gram matrix (GramRows, %.1fx)\n",
+              linearCandidates().size(), t_subsets, t_gram, t_subsets / std::max(1e-9, t_gram));
   StageSamples pyramid, linear, total;
   for (const auto& q : queries)
   {
