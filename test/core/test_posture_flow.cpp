@@ -337,19 +337,33 @@ TEST(LinearClassifier, LearnsSeparableClassesWithProbabilities)
   EXPECT_THROW(c.classify(Eigen::VectorXf::Zero(4)), std::invalid_argument);
 }
 
+namespace
+{
+// @p rows random rows of @p cols values, row i of class i % @p classes with its class's column
+// raised by 2.5; rows from @p wide_from on spread 3 times wider and shifted by 5.
+void classRows(int rows, int cols, int classes, int wide_from, unsigned seed, Eigen::MatrixXf& x,
+               std::vector<std::string>& labels)
+{
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.0f, 1.0f);
+  x.resize(rows, cols);
+  labels.clear();
+  for (int i = 0; i < rows; ++i)
+  {
+    const bool wide = i >= wide_from;
+    for (int j = 0; j < cols; ++j)
+      x(i, j) = (wide ? 3.0f : 1.0f) * noise(rng) + (j == i % classes ? 2.5f : 0.0f) + (wide ? 5.0f : 0.0f);
+    labels.push_back("class" + std::to_string(i % classes));
+  }
+}
+}  // namespace
+
 TEST(LinearClassifier, SolvingInTheRowsSpanGivesTheFullSolution)
 {
   // 30 rows of 200 columns: the span has 30 dimensions.
-  std::mt19937 rng(5);
-  std::normal_distribution<float> noise(0.0f, 1.0f);
-  Eigen::MatrixXf x(30, 200);
+  Eigen::MatrixXf x;
   std::vector<std::string> labels;
-  for (int i = 0; i < 30; ++i)
-  {
-    for (int j = 0; j < 200; ++j)
-      x(i, j) = noise(rng) + (j == i % 3 ? 2.0f : 0.0f);
-    labels.push_back("class" + std::to_string(i % 3));
-  }
+  classRows(30, 200, 3, 30, 5, x, labels);
   const LinearClassifier span = LinearClassifier::train(x, labels, 0.1, true);
   const LinearClassifier full = LinearClassifier::train(x, labels, 0.1, false);
   EXPECT_LT((span.weights() - full.weights()).norm(), 0.02f * full.weights().norm());
@@ -363,16 +377,10 @@ TEST(LinearClassifier, SolvingInTheRowsSpanGivesTheFullSolution)
 // the held-out scores must be that classifier's scores.
 TEST(LinearClassifier, ASubsetOfGramRowsTrainsAsItsRowsAlone)
 {
-  std::mt19937 rng(7);
-  std::normal_distribution<float> noise(0.0f, 1.0f);
-  Eigen::MatrixXf x(40, 150);
+  // The later rows shifted and spread wider: a subset has another mean and spread than the whole.
+  Eigen::MatrixXf x;
   std::vector<std::string> labels;
-  for (int i = 0; i < 40; ++i)
-  {
-    for (int j = 0; j < 150; ++j)  // the later rows shifted and spread wider: another mean and spread
-      x(i, j) = (i >= 20 ? 3.0f : 1.0f) * noise(rng) + (j == i % 4 ? 2.5f : 0.0f) + (i >= 20 ? 5.0f : 0.0f);
-    labels.push_back("class" + std::to_string(i % 4));
-  }
+  classRows(40, 150, 4, 20, 7, x, labels);
   const GramRows g(x);
   std::vector<Eigen::Index> rows, queries;
   std::vector<std::string> row_labels;
