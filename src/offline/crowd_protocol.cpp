@@ -18,7 +18,6 @@
 #include <map>
 #include <mutex>
 #include <set>
-#include <sys/stat.h>
 
 namespace action_flow
 {
@@ -434,7 +433,6 @@ int runCrowdProtocol(const Args& args, const std::vector<SampleRef>& samples,
   for (const Pass& p : passes)
     (p.only == 0 ? together[p.scene] : alone[{ p.scene, p.only }]) = &p;
 
-  ::mkdir(dir.c_str(), 0755);
   json results = json::array();
   std::string csv = "variant,scene,actor,person,action,first,last,shown_alone,shown_together,alone,together,"
                     "alone_track,together_track\n";

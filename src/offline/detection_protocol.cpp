@@ -2,6 +2,7 @@
 #include "detection_protocol.h"
 
 #include "cli.h"
+#include "extraction.h"
 #include "plot_script.h"
 
 #include <action_flow/files.h>
@@ -19,7 +20,6 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
-#include <sys/stat.h>
 #include <thread>
 
 namespace action_flow
@@ -363,6 +363,7 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
                        " of --scenes " + std::to_string(per_kind));
     specs.swap(picked);
   }
+  makeOutputDir(dir);
   std::fprintf(stderr, "evaluate: detection on %zu clutter scenes (%d of each kind), gate %.2f m\n", specs.size(),
                per_kind, gate);
   const std::vector<SceneOutcome> scenes = runAll(specs, params, gate, jobs);
@@ -390,7 +391,6 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
                { "miss_causes", s.miss_causes }, { "not_required_frames", s.not_required } });
     per_scene.push_back(j);
   }
-  ::mkdir(dir.c_str(), 0755);
   json report = { { "protocol", "detection" },
                   { "gate", gate },
                   { "seed", seed },

@@ -5,11 +5,11 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <filesystem>
 #include <cstdio>
 #include <functional>
 #include <mutex>
 #include <sstream>
-#include <sys/stat.h>
 #include <thread>
 #include <unistd.h>
 
@@ -24,13 +24,6 @@ std::atomic<bool> g_stop{ false };
 extern "C" void onSignal(int)
 {
   g_stop = true;
-}
-
-void makeDirs(const std::string& path)
-{
-  for (std::size_t i = 1; i <= path.size(); ++i)
-    if (i == path.size() || path[i] == '/')
-      ::mkdir(path.substr(0, i).c_str(), 0755);
 }
 
 }  // namespace
@@ -52,6 +45,15 @@ void installInterruptHandler()
 {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
+}
+
+void makeOutputDir(const std::string& dir)
+{
+  std::error_code ec;
+  if (!dir.empty())
+    std::filesystem::create_directories(dir, ec);
+  if (dir.empty() || ec || !std::filesystem::is_directory(dir, ec) || ::access(dir.c_str(), W_OK) != 0)
+    throw UsageError("--output: cannot create or write the folder '" + dir + "'");
 }
 
 std::vector<std::string> splitList(const std::string& s)
@@ -90,7 +92,8 @@ std::vector<std::vector<SampleFrames>> extractAll(const std::vector<SampleRef>& 
   for (const auto& v : variants)
   {
     dirs.push_back(cache_dir + "/" + paramsFingerprint(v, tracker));
-    makeDirs(dirs.back());
+    std::error_code ec;  // a folder that cannot be made shows when the first sample cannot be cached
+    std::filesystem::create_directories(dirs.back(), ec);
   }
   std::vector<std::vector<SampleFrames>> out(variants.size(), std::vector<SampleFrames>(samples.size()));
   const auto cachePath = [&](std::size_t v, std::size_t s) {

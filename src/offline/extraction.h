@@ -39,6 +39,12 @@ void refuseEmptySamples(const std::vector<SampleRef>& samples, const std::vector
 /** Installs a SIGINT/SIGTERM handler that asks extractAll to stop after the samples in flight. */
 void installInterruptHandler();
 
+/**
+ * Creates the tools' output folder @p dir and its parents, before any long work.
+ * @throws UsageError naming --output and @p dir when it cannot be made or written to
+ */
+void makeOutputDir(const std::string& dir);
+
 /** Parses the common command-line value "a,b,c". */
 std::vector<std::string> splitList(const std::string& s);
 

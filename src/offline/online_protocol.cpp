@@ -19,7 +19,6 @@
 #include <limits>
 #include <map>
 #include <set>
-#include <sys/stat.h>
 
 namespace action_flow
 {
@@ -722,7 +721,6 @@ json onlineVariant(const OnlineRun& run, const std::string& v, std::string& time
 void writeOnlineReport(const Args& args, const std::string& dir, const json& report,
                        const std::string& timeline)
 {
-  ::mkdir(dir.c_str(), 0755);
   writeTextAtomically(dir + "/online.json", report.dump(2) + "\n");
   writeTextAtomically(dir + "/timeline.csv", timeline);
   std::printf("evaluate: report in %s/online.json\n", dir.c_str());

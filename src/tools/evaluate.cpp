@@ -21,7 +21,6 @@
 #include <cstdlib>
 #include <cstdio>
 #include <fstream>
-#include <sys/stat.h>
 
 using namespace action_flow;
 using namespace action_flow::tools;
@@ -495,6 +494,7 @@ int main(int argc, char** argv)
       return runDetectionProtocol(args, args.get("output"));
     const auto t0 = std::chrono::steady_clock::now();
     const Evaluation e = parseEvaluation(args);  // every option is checked before any work starts
+    makeOutputDir(args.get("output"));            // and the output folder made, not after hours of work
     if (args.get("protocol") == "online")
       return runOnlineProtocol(args, e.samples, args.get("output"));
     const VariantTable table = variantTable(e.base);
@@ -513,7 +513,6 @@ int main(int argc, char** argv)
     const auto t1 = std::chrono::steady_clock::now();
 
     const std::string dir = args.get("output");
-    ::mkdir(dir.c_str(), 0755);
     json report = reportHead(e, persons, folds, frames[0]);
     classifyVariants(e, table, variants, folds, frames, dir, report);
     writeReport(args, dir, report, e.jobs, t0, t1);

@@ -149,6 +149,24 @@ TEST(Tools, OutOfRangeOptionsAreUsageErrorsNamingTheOption)
   EXPECT_EQ(WEXITSTATUS(run(kBin + "/train --output /nonexistent --synth ias --jobs 0").status), 2);
 }
 
+// The output folder is made, parents and all, before the work; one that cannot be made is a usage
+// error before any sample is described, naming --output.
+TEST(Tools, OutputFolderIsMadeBeforeTheWork)
+{
+  const std::string d = tempDir("output_folder");
+  const Result made = run(kBin + "/evaluate --output '" + d + "/a/b' --synth ias --people 2 --repetitions 1 "
+                                 "--actions wave,kick --max-frames 4 --variants sumflow --sweep 0 --cache '" + d + "/cache'");
+  ASSERT_EQ(made.status, 0) << made.output;
+  EXPECT_TRUE(std::ifstream(d + "/a/b/report.json").good()) << made.output;
+  std::ofstream(d + "/file") << "not a folder";
+  const Result bad = run(kBin + "/evaluate --output '" + d + "/file/report' --synth ias --people 2 --repetitions 1 "
+                                "--actions wave,kick --max-frames 4 --variants sumflow --sweep 0 --cache '" + d + "/cache2'");
+  EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
+  EXPECT_NE(bad.output.find("--output"), std::string::npos) << bad.output;
+  EXPECT_EQ(std::count(bad.output.begin(), bad.output.end(), '\n'), 1) << bad.output;
+  EXPECT_FALSE(std::ifstream(d + "/cache2").good()) << "no sample was described";
+}
+
 TEST(Tools, SynthAddsToAnExistingIndex)
 {
   // Two runs into one folder: the second adds its samples, the first run's rows stay; a row whose
