@@ -106,10 +106,7 @@ void solve(problem& prob, double c, std::size_t classes, Eigen::MatrixXd& u, Eig
     b[row] = static_cast<float>(get_decfun_coef(trained.get(), dz + 1, li));
   }
 }
-}  // namespace
 
-namespace
-{
 void checkCs(const std::vector<double>& cs)
 {
   for (double c : cs)
