@@ -410,6 +410,37 @@ void loadCachedSequences(const Options& o, std::vector<DescriptorSequence>& trai
     throw std::runtime_error(o.descriptors + ": need training sequences and queries of person " + o.query_person);
 }
 
+// Model selection as trainModel runs it (chooseLinear: 3 groups of people held out in turn, each
+// value of C) on @p model's training rows, beside the same held-out classifiers each trained on its
+// own rows: @p t_subsets and @p t_gram receive the seconds of each.
+void timeModelSelection(const ActionModel& model, const Options& o, double& t_subsets, double& t_gram)
+{
+  Stopwatch w(o.clock);
+  std::vector<std::string> persons;
+  for (std::size_t i = 0; i < model.labels.size(); ++i)
+    persons.push_back("p" + std::to_string(i % 6));
+  for (int f = 0; f < 3; ++f)
+  {
+    std::vector<Eigen::Index> rows, held_out;
+    std::vector<std::string> labels;
+    for (std::size_t i = 0; i < model.labels.size(); ++i)
+      if (i % 6 % 3 == static_cast<std::size_t>(f))
+        held_out.push_back(static_cast<Eigen::Index>(i));
+      else
+      {
+        rows.push_back(static_cast<Eigen::Index>(i));
+        labels.push_back(model.labels[i]);
+      }
+    for (const LinearClassifier& c :
+         LinearClassifier::train(Eigen::MatrixXf(model.descriptors(rows, Eigen::all)), labels, linearCandidates()))
+      for (Eigen::Index q : held_out)
+        c.scores(model.descriptors.row(q).transpose());
+  }
+  t_subsets = w.lap();
+  chooseLinear(model.descriptors, nullptr, model.labels, persons, { false }, linearCandidates());
+  t_gram = w.lap();
+}
+
 // The default recognizer's classification: temporal pyramid of posture-and-flow frames, then the
 // linear classifier (a product with the weights), on generated sequences of the same shape.
 // @p fourier false is the previous default's pyramid of
@@ -446,31 +477,8 @@ void benchPostureFlowClassification(const Options& o, bool fourier)
   const double t_span = w.lap();
   LinearClassifier::train(model.descriptors, model.labels, model.params.pyramid.c, false);
   const double t_full = w.lap();
-  // Model selection as trainModel runs it (chooseLinear: 3 groups of people held out in turn, each
-  // value of C), beside the same held-out classifiers each trained on its own rows.
-  std::vector<std::string> persons;
-  for (std::size_t i = 0; i < train.size(); ++i)
-    persons.push_back("p" + std::to_string(i % 6));
-  for (int f = 0; f < 3; ++f)
-  {
-    std::vector<Eigen::Index> rows, held_out;
-    std::vector<std::string> labels;
-    for (std::size_t i = 0; i < train.size(); ++i)
-      if (i % 6 % 3 == static_cast<std::size_t>(f))
-        held_out.push_back(static_cast<Eigen::Index>(i));
-      else
-      {
-        rows.push_back(static_cast<Eigen::Index>(i));
-        labels.push_back(model.labels[i]);
-      }
-    for (const LinearClassifier& c :
-         LinearClassifier::train(Eigen::MatrixXf(model.descriptors(rows, Eigen::all)), labels, linearCandidates()))
-      for (Eigen::Index q : held_out)
-        c.scores(model.descriptors.row(q).transpose());
-  }
-  const double t_subsets = w.lap();
-  chooseLinear(model.descriptors, nullptr, model.labels, persons, { false }, linearCandidates());
-  const double t_gram = w.lap();
+  double t_subsets = 0.0, t_gram = 0.0;
+  timeModelSelection(model, o, t_subsets, t_gram);
   const SequenceClassifier classifier = model.classifier();
   std::printf("\n### Classification, posture_flow (%s): %zu training sequences of %d actions, %zu queries, "
               "generated; %ld values per sequence\n",
