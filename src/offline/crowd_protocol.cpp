@@ -259,6 +259,79 @@ struct Tally
              { "difference", acc(together) - acc(alone) } };
   }
 };
+/** What scoring one variant gathers: its tallies, confusion matrices and the actions it skipped. */
+struct VariantScores
+{
+  Confusion alone, together;
+  Tally all, visible;
+  std::map<std::string, Tally> by_person, by_action;
+  int not_shown = 0, not_trained = 0;
+
+  explicit VariantScores(const std::vector<std::string>& labels) : alone(labels), together(labels) {}
+
+  void add(const ScoredSegment& r, const std::string& who)
+  {
+    alone.add(r.segment.action, r.alone);
+    together.add(r.segment.action, r.together);
+    all.add(r);
+    if (r.shown_together >= kVisibleShare)
+      visible.add(r);
+    by_person[who].add(r);
+    by_action[r.segment.action].add(r);
+  }
+
+  /** @p v's report entry; writes its confusion matrices to @p dir and prints its two lines. */
+  json report(const RecognizerVariant& v, const std::string& dir) const
+  {
+    json per_person = json::array(), per_action = json::object();
+    for (const auto& [who, t] : by_person)
+    {
+      json j = t.toJson();
+      j["person"] = who;
+      per_person.push_back(j);
+    }
+    for (const auto& [a, t] : by_action)
+      per_action[a] = t.toJson();
+    int alone_untracked = 0, together_untracked = 0;
+    for (std::size_t t = 0; t + 1 < alone.labels.size(); ++t)
+    {
+      alone_untracked += alone.counts[t].back();
+      together_untracked += together.counts[t].back();
+    }
+    json r = all.toJson();
+    r["variant"] = v.name;
+    r["title"] = v.title;
+    r["alone_untracked"] = alone_untracked;
+    r["together_untracked"] = together_untracked;
+    r["segments_not_shown"] = not_shown;
+    r["segments_not_trained"] = not_trained;
+    r["visible"] = visible.toJson();
+    r["per_person"] = per_person;
+    r["per_action"] = per_action;
+    r["alone_confusion"] = confusionJson(alone);
+    r["together_confusion"] = confusionJson(together);
+    writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_alone.csv", confusionCsv(alone));
+    writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_together.csv", confusionCsv(together));
+    std::printf("%-40s %d actions: alone %5.1f%%, together %5.1f%% (%+.1f points); untracked %d alone, %d together\n",
+                v.title.c_str(), all.segments, 100.0 * r["alone"].get<double>(), 100.0 * r["together"].get<double>(),
+                100.0 * r["difference"].get<double>(), alone_untracked, together_untracked);
+    std::printf("%-40s %d of them in plain view together: alone %5.1f%%, together %5.1f%% (%+.1f points)\n", "",
+                visible.segments, 100.0 * r["visible"]["alone"].get<double>(),
+                100.0 * r["visible"]["together"].get<double>(), 100.0 * r["visible"]["difference"].get<double>());
+    return r;
+  }
+};
+
+/** One line of segments.csv: @p r as @p variant read it, in @p scene. */
+std::string segmentLine(const std::string& variant, const std::string& scene, const ScoredSegment& r)
+{
+  char line[512];
+  std::snprintf(line, sizeof line, "%s,%s,%s,%d,%s,%d,%d,%.3f,%.3f,%s,%s,%u,%u\n", variant.c_str(), scene.c_str(),
+                r.actor.c_str(), int(r.segment.person), r.segment.action.c_str(), r.segment.first, r.segment.last,
+                r.shown_alone, r.shown_together, r.alone.c_str(), r.together.c_str(), r.alone_track, r.together_track);
+  return line;
+}
+
 /** Trains @p v on every training sample, scores every action of the crowd scenes' people alone and
  *  together (@p e: the extraction index of the passes' rows it reads), writes its confusion matrices
  *  to @p dir, adds its lines to @p csv and returns its report entry. */
@@ -280,10 +353,7 @@ json scoreVariant(const RecognizerVariant& v, std::size_t e, const std::vector<S
   const SequenceClassifier classifier = model.classifier();
   std::vector<std::string> labels = classifier.classes();
   labels.push_back(kUntracked);
-  Confusion alone_confusion(labels), together_confusion(labels);
-  Tally all, visible;
-  std::map<std::string, Tally> by_person, by_action;
-  int not_shown = 0, not_trained = 0;
+  VariantScores scores(labels);
   for (std::size_t s = 0; s < scenes.size(); ++s)
     for (const synth::CrowdPerson& person : people[s])
       for (const synth::StreamSegment& seg : person.segments)
@@ -293,7 +363,7 @@ json scoreVariant(const RecognizerVariant& v, std::size_t e, const std::vector<S
           continue;  // past the scene's end
         if (std::find(labels.begin(), labels.end() - 1, seg.action) == labels.end() - 1)
         {
-          ++not_trained;
+          ++scores.not_trained;
           continue;
         }
         ScoredSegment r;
@@ -304,61 +374,15 @@ json scoreVariant(const RecognizerVariant& v, std::size_t e, const std::vector<S
         r.shown_together = share(together[s]->counted_of.at(person.mask_id), seg.first, seg.last);
         if (r.shown_alone < kShownShare)
         {
-          ++not_shown;
+          ++scores.not_shown;
           continue;
         }
         r.alone = recognise(solo, e, r.segment, model, classifier, r.alone_track);
         r.together = recognise(*together[s], e, r.segment, model, classifier, r.together_track);
-        alone_confusion.add(seg.action, r.alone);
-        together_confusion.add(seg.action, r.together);
-        all.add(r);
-        if (r.shown_together >= kVisibleShare)
-          visible.add(r);
-        by_person[scenes[s].name() + "/" + person.actor].add(r);
-        by_action[seg.action].add(r);
-        char line[512];
-        std::snprintf(line, sizeof line, "%s,%s,%s,%d,%s,%d,%d,%.3f,%.3f,%s,%s,%u,%u\n", v.name.c_str(),
-                      scenes[s].name().c_str(), person.actor.c_str(), int(person.mask_id), seg.action.c_str(),
-                      seg.first, seg.last, r.shown_alone, r.shown_together, r.alone.c_str(), r.together.c_str(),
-                      r.alone_track, r.together_track);
-        csv += line;
+        scores.add(r, scenes[s].name() + "/" + person.actor);
+        csv += segmentLine(v.name, scenes[s].name(), r);
       }
-  json per_person = json::array(), per_action = json::object();
-  for (const auto& [who, t] : by_person)
-  {
-    json j = t.toJson();
-    j["person"] = who;
-    per_person.push_back(j);
-  }
-  for (const auto& [a, t] : by_action)
-    per_action[a] = t.toJson();
-  int alone_untracked = 0, together_untracked = 0;
-  for (std::size_t t = 0; t + 1 < labels.size(); ++t)
-  {
-    alone_untracked += alone_confusion.counts[t].back();
-    together_untracked += together_confusion.counts[t].back();
-  }
-  json r = all.toJson();
-  r["variant"] = v.name;
-  r["title"] = v.title;
-  r["alone_untracked"] = alone_untracked;
-  r["together_untracked"] = together_untracked;
-  r["segments_not_shown"] = not_shown;
-  r["segments_not_trained"] = not_trained;
-  r["visible"] = visible.toJson();
-  r["per_person"] = per_person;
-  r["per_action"] = per_action;
-  r["alone_confusion"] = confusionJson(alone_confusion);
-  r["together_confusion"] = confusionJson(together_confusion);
-  writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_alone.csv", confusionCsv(alone_confusion));
-  writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_together.csv", confusionCsv(together_confusion));
-  std::printf("%-40s %d actions: alone %5.1f%%, together %5.1f%% (%+.1f points); untracked %d alone, %d together\n",
-              v.title.c_str(), all.segments, 100.0 * r["alone"].get<double>(), 100.0 * r["together"].get<double>(),
-              100.0 * r["difference"].get<double>(), alone_untracked, together_untracked);
-  std::printf("%-40s %d of them in plain view together: alone %5.1f%%, together %5.1f%% (%+.1f points)\n", "",
-              visible.segments, 100.0 * r["visible"]["alone"].get<double>(),
-              100.0 * r["visible"]["together"].get<double>(), 100.0 * r["visible"]["difference"].get<double>());
-  return r;
+  return scores.report(v, dir);
 }
 
 }  // namespace

@@ -318,6 +318,52 @@ json writeExamples(const std::vector<SceneOutcome>& scenes, const std::string& d
   }
   return out;
 }
+
+// The clutter scenes to run: @p per_kind of each kind for @p seed, or only those --scene names.
+std::vector<synth::SampleSpec> chosenScenes(const Args& args, int per_kind, std::uint64_t seed)
+{
+  std::vector<synth::SampleSpec> specs = synth::clutterSamples(per_kind, seed);
+  if (!args.has("scene"))
+    return specs;
+  const std::string wanted = "," + args.get("scene") + ",";
+  std::vector<synth::SampleSpec> picked;
+  for (const auto& s : specs)
+    if (wanted.find("," + s.name() + ",") != std::string::npos)
+      picked.push_back(s);
+  if (picked.empty())
+    throw UsageError("--scene: no scene " + args.get("scene") + " among the " + std::to_string(specs.size()) +
+                     " of --scenes " + std::to_string(per_kind));
+  return picked;
+}
+
+// The scenes' counts: overall, binned (kind, camera height, pitch, action, visible floor), and per scene.
+struct DetectionSummary
+{
+  DetectionCounts all;
+  DetectionTally by_kind, by_height, by_pitch, by_action, by_floor;
+  std::map<std::string, long> false_on, miss_causes;
+  json per_scene = json::array();
+
+  void add(const SceneOutcome& s)
+  {
+    all += s.counts;
+    by_kind[s.kind] += s.counts;
+    by_height[binLabel(s.camera_height, { 0.5, 0.9, 1.3, 1.8001 }, "%.1f")] += s.counts;
+    by_pitch[binLabel(s.pitch_up_deg, { -20.0001, -10, 0, 10.0001 }, "%+.0f")] += s.counts;
+    if (s.kind != "furniture")
+      by_action[s.action] += s.counts;
+    by_floor[binLabel(100 * s.floor_share, { 0, 10, 25, 100.001 }, "%.0f%%")] += s.counts;
+    for (const auto& [k, n] : s.false_on)
+      false_on[k] += n;
+    for (const auto& [k, n] : s.miss_causes)
+      miss_causes[k] += n;
+    json j = countsJson(s.counts);
+    j.update({ { "scene", s.name }, { "kind", s.kind }, { "action", s.action }, { "camera_height", s.camera_height },
+               { "pitch_up_deg", s.pitch_up_deg }, { "floor_share", s.floor_share }, { "false_on", s.false_on },
+               { "miss_causes", s.miss_causes }, { "not_required_frames", s.not_required } });
+    per_scene.push_back(j);
+  }
+};
 }  // namespace
 
 void addDetectionOptions(Options& o)
@@ -350,47 +396,16 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
   const bool defaults = params.remove_walls == TrackerParams().remove_walls &&
                         params.max_head_ratio == TrackerParams().max_head_ratio &&
                         params.min_free_fraction == TrackerParams().min_free_fraction;
-  std::vector<synth::SampleSpec> specs = synth::clutterSamples(per_kind, seed);
-  if (args.has("scene"))
-  {
-    const std::string wanted = "," + args.get("scene") + ",";
-    std::vector<synth::SampleSpec> picked;
-    for (const auto& s : specs)
-      if (wanted.find("," + s.name() + ",") != std::string::npos)
-        picked.push_back(s);
-    if (picked.empty())
-      throw UsageError("--scene: no scene " + args.get("scene") + " among the " + std::to_string(specs.size()) +
-                       " of --scenes " + std::to_string(per_kind));
-    specs.swap(picked);
-  }
+  const std::vector<synth::SampleSpec> specs = chosenScenes(args, per_kind, seed);
   makeOutputDir(dir);
   std::fprintf(stderr, "evaluate: detection on %zu clutter scenes (%d of each kind), gate %.2f m\n", specs.size(),
                per_kind, gate);
   const std::vector<SceneOutcome> scenes = runAll(specs, params, gate, jobs);
 
-  DetectionCounts all;
-  DetectionTally by_kind, by_height, by_pitch, by_action, by_floor;
-  std::map<std::string, long> false_on, miss_causes;
-  json per_scene = json::array();
+  DetectionSummary sum;
   for (const auto& s : scenes)
-  {
-    all += s.counts;
-    by_kind[s.kind] += s.counts;
-    by_height[binLabel(s.camera_height, { 0.5, 0.9, 1.3, 1.8001 }, "%.1f")] += s.counts;
-    by_pitch[binLabel(s.pitch_up_deg, { -20.0001, -10, 0, 10.0001 }, "%+.0f")] += s.counts;
-    if (s.kind != "furniture")
-      by_action[s.action] += s.counts;
-    by_floor[binLabel(100 * s.floor_share, { 0, 10, 25, 100.001 }, "%.0f%%")] += s.counts;
-    for (const auto& [k, n] : s.false_on)
-      false_on[k] += n;
-    for (const auto& [k, n] : s.miss_causes)
-      miss_causes[k] += n;
-    json j = countsJson(s.counts);
-    j.update({ { "scene", s.name }, { "kind", s.kind }, { "action", s.action }, { "camera_height", s.camera_height },
-               { "pitch_up_deg", s.pitch_up_deg }, { "floor_share", s.floor_share }, { "false_on", s.false_on },
-               { "miss_causes", s.miss_causes }, { "not_required_frames", s.not_required } });
-    per_scene.push_back(j);
-  }
+    sum.add(s);
+  const DetectionCounts& all = sum.all;
   json report = { { "protocol", "detection" },
                   { "gate", gate },
                   { "seed", seed },
@@ -400,21 +415,21 @@ int runDetectionProtocol(const Args& args, const std::string& dir)
                   { "max_head_ratio", params.max_head_ratio },
                   { "min_free_fraction", params.min_free_fraction },
                   { "overall", countsJson(all) },
-                  { "by_kind", tallyJson(by_kind) },
-                  { "by_camera_height", tallyJson(by_height) },
-                  { "by_pitch_up_deg", tallyJson(by_pitch) },
-                  { "by_action", tallyJson(by_action) },
-                  { "by_floor_visible", tallyJson(by_floor) },
-                  { "false_positives_on", false_on },
-                  { "misses_by_cause", miss_causes },
+                  { "by_kind", tallyJson(sum.by_kind) },
+                  { "by_camera_height", tallyJson(sum.by_height) },
+                  { "by_pitch_up_deg", tallyJson(sum.by_pitch) },
+                  { "by_action", tallyJson(sum.by_action) },
+                  { "by_floor_visible", tallyJson(sum.by_floor) },
+                  { "false_positives_on", sum.false_on },
+                  { "misses_by_cause", sum.miss_causes },
                   { "examples", writeExamples(scenes, dir, args.has("every-example")) },
-                  { "scenes", per_scene } };
+                  { "scenes", sum.per_scene } };
   writeTextAtomically(dir + "/detection.json", report.dump(2) + "\n");
   std::printf("detection, %s, %zu scenes, %ld frames: precision %.3f, recall %.3f (%ld true, %ld false, "
               "%ld missed)\n",
               defaults ? "default parameters" : "changed cues", scenes.size(), all.frames, all.precision(), all.recall(), all.true_positives, all.false_positives,
               all.misses);
-  for (const auto& [k, c] : by_kind)
+  for (const auto& [k, c] : sum.by_kind)
     std::printf("  %-10s precision %.3f recall %.3f  (%ld false, %ld missed, %ld frames)\n", k.c_str(), c.precision(),
                 c.recall(), c.false_positives, c.misses, c.frames);
   std::printf("evaluate: report in %s/detection.json\n", dir.c_str());
