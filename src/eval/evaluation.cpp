@@ -2,6 +2,7 @@
 #include "workers.h"
 
 #include <action_flow/files.h>
+#include <action_flow/param_table.h>
 #include <action_flow/posture_flow.h>
 #include <action_flow/sequence_descriptor.h>
 
@@ -494,6 +495,28 @@ LinearChoice chooseOnRows(const GramRows& g, bool has_mirrored, const std::vecto
 }
 }  // namespace
 
+std::optional<LinearChoice> SelectionMemo::find(const std::string& question) const
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = answers_.find(question);
+  if (it == answers_.end())
+    return std::nullopt;
+  ++hits_;
+  return it->second;
+}
+
+void SelectionMemo::add(const std::string& question, const LinearChoice& answer)
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  answers_.emplace(question, answer);
+}
+
+int SelectionMemo::hits() const
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return hits_;
+}
+
 const std::vector<double>& linearCandidates()
 {
   static const std::vector<double> c = { 0.001, 0.01, 0.1, 1.0 };
@@ -559,6 +582,32 @@ struct TrainingRows
     }
   }
 
+  // What a cross-validation over these rows under @p model, @p flow and @p posture, with these
+  // options, is asked (SelectionMemo): each row's person, action and frame descriptors (by address:
+  // the same for every variant of one extraction), every recognition parameter and the options.
+  std::string question(const ActionModel& model, FlowEncoding flow, PostureMode posture,
+                       const std::vector<bool>& mirror_options, const std::vector<double>& c_options) const
+  {
+    RecognitionParams probe = model.params;
+    probe.pyramid.flow = flow;
+    probe.pyramid.posture = posture;
+    std::ostringstream q;
+    q << "rows";
+    for (std::size_t r : rows)
+      q << " " << samples[r].person << "/" << samples[r].action << "@" << static_cast<const void*>(samples[r].frames)
+        << (samples[r].copy ? "c" : "");
+    for (const ParamEntry& e : paramEntries(probe))
+      q << " " << e.name << "=" << e.value;
+    q << " mirror";
+    for (bool m : mirror_options)
+      q << " " << m;
+    q << " c";
+    q.precision(17);
+    for (double c : c_options)
+      q << " " << c;
+    return q.str();
+  }
+
   // Under @p model with the flow encoding @p flow and posture @p posture (mirrored rows only when asked).
   void describe(const ActionModel& model, FlowEncoding flow, PostureMode posture, bool with_mirrored,
                 Eigen::MatrixXf& x, Eigen::MatrixXf& mirrored) const
@@ -582,7 +631,7 @@ struct TrainingRows
 // chosen setting's held-out answers (0 with fewer than 2 people). Ties keep the earlier option:
 // direction bins before sums, posture before none.
 double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, PyramidParams& pyramid,
-                            std::unique_ptr<GramRows>& rows)
+                            std::unique_ptr<GramRows>& rows, SelectionMemo* memo)
 {
   std::vector<bool> mirror_options;
   if (pyramid.mirror != MirrorMode::On)
@@ -600,22 +649,38 @@ double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, Pyr
     if (pyramid.posture == PostureMode::Choose || pyramid.posture == p)
       postures.push_back(p);
   LinearChoice best;
+  bool first = true;
   for (PostureMode p : postures)
     for (FlowEncoding e : encodings)
     {
-      Eigen::MatrixXf xe, me;
-      t.describe(model, e, p, mirror_options.back(), xe, me);
-      auto g = std::make_unique<GramRows>(stacked(xe, me.size() ? &me : nullptr));
-      const LinearChoice choice =
-          chooseOnRows(*g, me.size() > 0, t.labels, t.persons, mirror_options, c_options, 3, &t.queries);
-      if (!rows || choice.score > best.score + 1e-9)
+      const std::string question = memo ? t.question(model, e, p, mirror_options, c_options) : std::string();
+      std::unique_ptr<GramRows> g;
+      std::optional<LinearChoice> choice = memo ? memo->find(question) : std::nullopt;
+      if (!choice)
       {
-        best = choice;
+        Eigen::MatrixXf xe, me;
+        t.describe(model, e, p, mirror_options.back(), xe, me);
+        g = std::make_unique<GramRows>(stacked(xe, me.size() ? &me : nullptr));
+        choice = chooseOnRows(*g, me.size() > 0, t.labels, t.persons, mirror_options, c_options, 3, &t.queries);
+        if (memo)
+          memo->add(question, *choice);
+      }
+      if (first || choice->score > best.score + 1e-9)
+      {
+        first = false;
+        best = *choice;
         pyramid.flow = e;
         pyramid.posture = p;
         rows = std::move(g);
       }
     }
+  if (!rows)
+  {
+    // The choice was remembered: the final classifier's rows are described again.
+    Eigen::MatrixXf xe, me;
+    t.describe(model, pyramid.flow, pyramid.posture, mirror_options.back(), xe, me);
+    rows = std::make_unique<GramRows>(stacked(xe, me.size() ? &me : nullptr));
+  }
   pyramid.c = best.c;
   pyramid.mirror = best.mirror ? MirrorMode::On : MirrorMode::Off;
   return best.temperature;
@@ -623,7 +688,7 @@ double chooseLinearSettings(const TrainingRows& t, const ActionModel& model, Pyr
 }  // namespace
 
 ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
-                       const RecognitionParams& params, const Pca* fitted)
+                       const RecognitionParams& params, const Pca* fitted, SelectionMemo* memo)
 {
   if (rows.empty())
     throw std::invalid_argument("trainModel: no training samples");
@@ -640,7 +705,7 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
   {
     // The final classifier trains on the rows the choice was made on, sharing their Gram matrix.
     std::unique_ptr<GramRows> g;
-    const double temperature = chooseLinearSettings(t, model, pyramid, g);
+    const double temperature = chooseLinearSettings(t, model, pyramid, g, memo);
     const Eigen::Index n = static_cast<Eigen::Index>(t.labels.size());
     const Eigen::Index used = pyramid.mirror == MirrorMode::On ? 2 * n : n;
     std::vector<Eigen::Index> all(static_cast<std::size_t>(used));
@@ -684,7 +749,7 @@ ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::ve
 
 Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
                    const RecognitionParams& params, std::vector<double>* fold_accuracy, std::vector<Pca>* fold_pcas,
-                   int jobs, std::vector<PyramidParams>* fold_choices)
+                   int jobs, std::vector<PyramidParams>* fold_choices, SelectionMemo* memo)
 {
   std::vector<std::string> actions;
   for (const auto& s : samples)
@@ -717,7 +782,7 @@ Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector
       return;
     try
     {
-      const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr);
+      const ActionModel model = trainModel(samples, fold.train, params, reuse ? &(*fold_pcas)[f] : nullptr, memo);
       chosen[f] = model.params.pyramid;
       const SequenceClassifier classifier = model.classifier();
       for (std::size_t t : fold.test)

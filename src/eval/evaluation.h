@@ -12,6 +12,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -139,10 +142,13 @@ struct LabelledSample
  *        (chooseLinear) on these rows alone, and the choice is recorded in the model's parameters;
  *        the same cross-validation (also when nothing is left to choose) fits the classifier's
  *        temperature, so that its probabilities are calibrated (uncalibrated with one person).
+ * @param memo if given, cross-validations answered before on the same samples are not run again
+ *        (the same model results)
  * @throws std::invalid_argument if @p rows is empty
  */
+class SelectionMemo;
 ActionModel trainModel(const std::vector<LabelledSample>& samples, const std::vector<std::size_t>& rows,
-                       const RecognitionParams& params, const Pca* fitted = nullptr);
+                       const RecognitionParams& params, const Pca* fitted = nullptr, SelectionMemo* memo = nullptr);
 
 /** @brief The values of the linear classifier's C that chooseLinear tries. */
 const std::vector<double>& linearCandidates();
@@ -154,6 +160,30 @@ struct LinearChoice
   bool mirror = false;  ///< train with the mirrored copies too
   double score = -1.0;  ///< its mean accuracy over the held-out groups (-1: not cross-validated)
   double temperature = 0.0;  ///< fitted on its held-out answers (fitTemperature; 0: not cross-validated)
+};
+
+/**
+ * @brief Model-selection answers kept for the variants of one evaluation (thread-safe). trainModel
+ *        asks one cross-validation per flow encoding and posture it may choose; a variant that
+ *        chooses posture (posture_flow_choose_posture) asks the very questions that the variants
+ *        with posture on and off asked on the same rows, and with a memo each is answered once.
+ *        A question is its rows (each one's person, action and frame descriptors, by address: a memo
+ *        serves samples whose frames stay in place), every recognition parameter, and the options
+ *        of C and mirroring.
+ */
+class SelectionMemo
+{
+public:
+  /** @brief The answer to @p question, if it was given before. */
+  std::optional<LinearChoice> find(const std::string& question) const;
+  void add(const std::string& question, const LinearChoice& answer);
+  /** @brief How many questions find() answered. */
+  int hits() const;
+
+private:
+  mutable std::mutex mutex_;
+  std::map<std::string, LinearChoice> answers_;
+  mutable int hits_ = 0;
 };
 
 /**
@@ -186,13 +216,14 @@ Eigen::VectorXf sequenceOf(const LabelledSample& sample, const ActionModel& mode
  * @param jobs folds trained at once (threads)
  * @param fold_choices if given, receives each tested fold's model's pyramid parameters: what its
  *        cross-validation chose (C, mirror, posture, flow encoding)
+ * @param memo if given, model-selection answers shared with other calls on the same samples
  * @throws std::invalid_argument if a fold's training set contains a person of its test set, or if
  *         it tests a training copy (LabelledSample::copy)
  */
 Confusion runFolds(const std::vector<LabelledSample>& samples, const std::vector<Fold>& folds,
                    const RecognitionParams& params, std::vector<double>* fold_accuracy = nullptr,
                    std::vector<Pca>* fold_pcas = nullptr, int jobs = 1,
-                   std::vector<PyramidParams>* fold_choices = nullptr);
+                   std::vector<PyramidParams>* fold_choices = nullptr, SelectionMemo* memo = nullptr);
 
 /** @brief Sorted, de-duplicated copy. */
 std::vector<std::string> uniqueSorted(std::vector<std::string> v);

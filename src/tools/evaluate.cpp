@@ -330,6 +330,9 @@ json variantResults(const std::vector<Variant>& variants, const std::vector<Samp
                     const std::string& dir, std::vector<Pca>& fold_pcas)
 {
   json results = json::array();
+  // Variants that ask the same model-selection question on the same folds (the one choosing
+  // posture asks those of posture on and off) have it answered once.
+  SelectionMemo memo;
   for (const auto& v : variants)
   {
     std::vector<double> fold_acc;
@@ -337,7 +340,7 @@ json variantResults(const std::vector<Variant>& variants, const std::vector<Samp
     const auto v0 = std::chrono::steady_clock::now();
     const Confusion c = v.name == "joints" ? jointBaseline(samples, folds, fold_acc)
                                            : runFolds(labelledSamples(samples, frames[v.extraction]), folds, v.params,
-                                                      &fold_acc, &fold_pcas, jobs, &choices);
+                                                      &fold_acc, &fold_pcas, jobs, &choices, &memo);
     double mean_fold = 0.0;
     for (double a : fold_acc)
       mean_fold += a / fold_acc.size();

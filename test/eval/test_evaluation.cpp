@@ -467,6 +467,65 @@ TEST(Experiments, PostureIsChosenByCrossValidationInsideTheTrainingPeople)
   }
 }
 
+// Variants that ask the same model-selection questions on the same folds share the answers
+// (SelectionMemo, as evaluate's variants do): the variant that chooses posture asks what posture on
+// and posture off asked, runs no cross-validation of its own, and ends as it does without the memo.
+TEST(Experiments, ChoosingPostureReusesTheAnswersOfPostureOnAndOff)
+{
+  std::vector<SampleFrames> frames;
+  std::vector<LabelledSample> samples;
+  std::vector<std::string> persons;
+  const char* actions[] = { "wave", "kick", "punch" };
+  for (int p = 0; p < 5; ++p)
+    for (int a = 0; a < 3; ++a)
+      for (int rep = 0; rep < 2; ++rep)
+        frames.push_back(oneCueFrames(a, false, true, 10u * (100u * p + 10u * a) + rep));
+  for (int p = 0, i = 0; p < 5; ++p)
+    for (int a = 0; a < 3; ++a)
+      for (int rep = 0; rep < 2; ++rep, ++i)
+      {
+        samples.push_back({ "p" + std::to_string(p), actions[a], &frames[static_cast<std::size_t>(i)] });
+        persons.push_back(samples.back().person);
+      }
+  const std::vector<Fold> folds = leaveOnePersonOut(persons);
+  RecognitionParams on = defaultRecognitionParams(), off = on, choose = on;
+  off.pyramid.posture = PostureMode::Off;
+  choose.pyramid.posture = PostureMode::Choose;
+  std::vector<PyramidParams> plain_choices, memo_choices;
+  const Confusion plain = runFolds(samples, folds, choose, nullptr, nullptr, 2, &plain_choices);
+
+  SelectionMemo memo;
+  runFolds(samples, folds, on, nullptr, nullptr, 2, nullptr, &memo);
+  runFolds(samples, folds, off, nullptr, nullptr, 2, nullptr, &memo);
+  EXPECT_EQ(memo.hits(), 0) << "posture on and off ask different questions";
+  const Confusion memoised = runFolds(samples, folds, choose, nullptr, nullptr, 2, &memo_choices, &memo);
+  // Per fold, posture on and off under each flow encoding the default chooses between (bins, sums).
+  ASSERT_EQ(choose.pyramid.flow, FlowEncoding::Choose);
+  EXPECT_EQ(memo.hits(), 4 * static_cast<int>(folds.size())) << "each fold's questions were answered before";
+  EXPECT_EQ(memoised.counts, plain.counts);
+  EXPECT_EQ(memoised.reliability.meanConfidence(), plain.reliability.meanConfidence());
+  ASSERT_EQ(memo_choices.size(), plain_choices.size());
+  int off_chosen = 0;
+  for (std::size_t f = 0; f < plain_choices.size(); ++f)
+  {
+    EXPECT_EQ(memo_choices[f].c, plain_choices[f].c);
+    EXPECT_EQ(memo_choices[f].mirror, plain_choices[f].mirror);
+    EXPECT_EQ(memo_choices[f].posture, plain_choices[f].posture);
+    off_chosen += plain_choices[f].posture == PostureMode::Off;
+  }
+  EXPECT_GT(off_chosen, 0) << "the remembered choice is not the last one asked: the final rows are described again";
+  // The final classifier itself, with and without the memo.
+  const ActionModel a = trainModel(samples, folds[0].train, choose), b = trainModel(samples, folds[0].train, choose, nullptr, &memo);
+  EXPECT_EQ(a.linear.weights(), b.linear.weights());
+  EXPECT_EQ(a.linear.temperature(), b.linear.temperature());
+  EXPECT_EQ(a.params.pyramid.posture, b.params.pyramid.posture);
+  // Other rows are another question.
+  const int hits = memo.hits();
+  std::vector<std::size_t> fewer(folds[0].train.begin() + 6, folds[0].train.end());
+  trainModel(samples, fewer, choose, nullptr, &memo);
+  EXPECT_EQ(memo.hits(), hits);
+}
+
 // Five overlapping classes (about 60% separable): the temperature fitted by chooseLinear on the
 // training people's held-out answers makes the confidence on new people match how often it is
 // right, far better than the uncalibrated probabilities do.
