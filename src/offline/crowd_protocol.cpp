@@ -299,17 +299,17 @@ struct VariantScores
       together_untracked += together.counts[t].back();
     }
     json r = all.toJson();
-    r["variant"] = v.name;
-    r["title"] = v.title;
-    r["alone_untracked"] = alone_untracked;
-    r["together_untracked"] = together_untracked;
-    r["segments_not_shown"] = not_shown;
-    r["segments_not_trained"] = not_trained;
-    r["visible"] = visible.toJson();
-    r["per_person"] = per_person;
-    r["per_action"] = per_action;
-    r["alone_confusion"] = confusionJson(alone);
-    r["together_confusion"] = confusionJson(together);
+    r.update({ { "variant", v.name },
+               { "title", v.title },
+               { "alone_untracked", alone_untracked },
+               { "together_untracked", together_untracked },
+               { "segments_not_shown", not_shown },
+               { "segments_not_trained", not_trained },
+               { "visible", visible.toJson() },
+               { "per_person", per_person },
+               { "per_action", per_action },
+               { "alone_confusion", confusionJson(alone) },
+               { "together_confusion", confusionJson(together) } });
     writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_alone.csv", confusionCsv(alone));
     writeTextAtomically(dir + "/crowd_confusion_" + v.name + "_together.csv", confusionCsv(together));
     std::printf("%-40s %d actions: alone %5.1f%%, together %5.1f%% (%+.1f points); untracked %d alone, %d together\n",
