@@ -77,7 +77,9 @@ def cross_view(report, out):
     ax.set_ylim(0, 100)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    ax.set_title(f"Trained facing the camera (0 +- {cv.get('train_spread', 15):g} degrees), tested from other sides")
+    spread = cv.get("train_spread", 15)
+    trained = "on every side" if spread >= 180 else f"facing the camera (0 +- {spread:g} degrees)"
+    ax.set_title(f"Trained {trained}, grid {cv.get('grid', 'camera-aligned')}; tested from each side", fontsize=10)
     save(fig, os.path.join(out, "cross_view.png"))
 
 

@@ -266,11 +266,17 @@ std::vector<Fold> crossViewFolds(const CrossViewSet& set)
   return folds;
 }
 
-// Cross-view: each variant's accuracy per view (its fold accuracies), printed as a table too.
-json crossViewTable(const CrossViewSet& set, const json& results)
+// Cross-view: each variant's accuracy per view (its fold accuracies), printed as a table too;
+// @p turned: the tracker turned the grid to each person's facing.
+json crossViewTable(const CrossViewSet& set, bool turned, const json& results)
 {
-  json table = { { "views", set.views }, { "train_spread", set.train_spread }, { "accuracy", json::object() } };
-  std::printf("\ncross-view accuracy (%%), trained facing the camera (0 +- %g degrees):\n%-28s", set.train_spread, "variant");
+  const char* grid = turned ? "turned to the facing" : "camera-aligned";
+  json table = { { "views", set.views },
+                 { "train_spread", set.train_spread },
+                 { "grid", grid },
+                 { "accuracy", json::object() } };
+  std::printf("\ncross-view accuracy (%%), trained facing 0 +- %g degrees, grid %s:\n%-28s", set.train_spread, grid,
+              "variant");
   for (double v : set.views)
     std::printf(" %7g", v);
   std::printf("\n");
@@ -462,7 +468,7 @@ void classifyVariants(const Evaluation& e, const VariantTable& table,
   const json results = variantResults(variants, e.samples, frames, folds, e.jobs, dir, fold_pcas);
   report["variants"] = results;
   if (e.protocol == "cross-view")
-    report["cross_view"] = crossViewTable(e.cross_view, results);
+    report["cross_view"] = crossViewTable(e.cross_view, e.tracker.align_to_facing, results);
   if (e.sweep > 0)
     report["frames_sweep"] =
         framesSweep(sum, pca, labelledSamples(e.samples, frames[0]), folds, e.sweep, fold_pcas);
