@@ -167,6 +167,35 @@ TEST(Tools, OutputFolderIsMadeBeforeTheWork)
   EXPECT_FALSE(std::ifstream(d + "/cache2").good()) << "no sample was described";
 }
 
+// evaluate --protocol cross-view, small: one fold per view, each variant's accuracy per view, and
+// the report says which grid the tracker used (camera-aligned, or turned with --align-to-facing).
+TEST(Tools, CrossViewReportsEachViewAndTheGrid)
+{
+  const std::string d = tempDir("cross_view");
+  for (const bool turned : { false, true })
+  {
+    const std::string out = d + (turned ? "/turned" : "/plain");
+    const Result r = run(kBin + "/evaluate --synth ias --protocol cross-view --people 2 --repetitions 1 "
+                                "--actions wave,kick --views 90 --max-frames 12 --variants posture_flow_nn,sumflow "
+                                "--allow-empty --no-plots --jobs 2 --cache '" + d + "/cache' --output '" + out + "'" +
+                                (turned ? " --align-to-facing" : ""));
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::ifstream in(out + "/report.json");
+    const nlohmann::json cv = nlohmann::json::parse(in).at("cross_view");
+    EXPECT_EQ(cv.at("grid"), turned ? "turned to the facing" : "camera-aligned");
+    EXPECT_EQ(cv.at("views"), nlohmann::json::array({ 0.0, 90.0 }));
+    EXPECT_EQ(cv.at("train_spread"), 15.0);
+    for (const char* v : { "posture_flow_nn", "sumflow" })
+    {
+      const nlohmann::json& acc = cv.at("accuracy").at(v);
+      ASSERT_EQ(acc.size(), 2u) << v;
+      for (const auto& a : acc)
+        EXPECT_TRUE(a.get<double>() >= 0.0 && a.get<double>() <= 1.0) << v;
+    }
+    EXPECT_NE(r.output.find(turned ? "grid turned to the facing" : "grid camera-aligned"), std::string::npos) << r.output;
+  }
+}
+
 TEST(Tools, SynthAddsToAnExistingIndex)
 {
   // Two runs into one folder: the second adds its samples, the first run's rows stay; a row whose
