@@ -6,6 +6,7 @@
 #include "random.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -812,13 +813,19 @@ void SceneRenderer::Impl::addColorNoise(std::uint64_t frame_key,
 {
   const size_t n = size_t(cam.width) * cam.height;
   const float cs = float(cam.color_noise) / 0.408f;  // the triangular variable's std is 0.408
+  // A channel's noise is cs * (a + b - 255) / 255 for two random bytes a and b: it takes one of 511
+  // values, tabled here by a + b (the same float operations, so the same images, without a division
+  // a channel: this was a tenth of the evaluation's descriptor time).
+  std::array<float, 511> noise;
+  for (int s = 0; s < 511; ++s)
+    noise[size_t(s)] = cs * ((float(s) - 255.0f) / 255.0f);
   for (size_t i = 0; i < n; ++i)
   {
     const std::uint64_t hsh = mix64((frame_key ^ 0xc0104ULL) + i * 0x9e3779b97f4a7c15ULL);
     for (int c = 0; c < 3; ++c)
     {
-      const float tri = (float((hsh >> (16 * c)) & 0xff) + float((hsh >> (16 * c + 8)) & 0xff) - 255.0f) / 255.0f;
-      const float val = float(rgb[3 * i + c]) + cs * tri;
+      const unsigned s = unsigned((hsh >> (16 * c)) & 0xff) + unsigned((hsh >> (16 * c + 8)) & 0xff);
+      const float val = float(rgb[3 * i + c]) + noise[s];
       rgb[3 * i + c] = std::uint8_t(std::clamp(val + 0.5f, 0.0f, 255.0f));  // truncation after +0.5 rounds
     }
   }
